@@ -1,0 +1,52 @@
+# The two commands of the README:  `make demo`  and  `make test`.
+# Everything else here is a step of those two.
+PYTHON ?= python3
+VENV   := .venv
+VPY    := $(VENV)/bin/python
+JOBS   ?= 2
+CPP_BUILD := build/cpp
+PREFIX    := build/prefix
+
+.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test bench clean
+
+demo: install
+	$(VPY) examples/demo.py
+
+test: cpp-test consumer-test py-test
+
+deps:
+	@bash scripts/install_deps.sh
+
+venv: deps
+	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
+	@$(VPY) -m pip install -q --disable-pip-version-check \
+	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib
+
+# pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
+install: venv
+	$(VPY) -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps .
+
+cpp: deps
+	cmake -S . -B $(CPP_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build $(CPP_BUILD) -j$(JOBS)
+
+cpp-test: cpp
+	ctest --test-dir $(CPP_BUILD) --output-on-failure -j$(JOBS)
+
+# Installs the C++ package and builds an outside project against it.
+consumer-test: cpp
+	cmake --install $(CPP_BUILD) --prefix $(CURDIR)/$(PREFIX) >/dev/null
+	cmake -S examples/cpp_consumer -B build/consumer -G Ninja \
+	    -DCMAKE_PREFIX_PATH=$(CURDIR)/$(PREFIX) >/dev/null
+	cmake --build build/consumer -j$(JOBS)
+	./build/consumer/consumer
+
+py-test: install
+	$(VPY) -m pytest -q
+
+bench: install
+	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true
+	$(VPY) bench/run_all.py
+
+clean:
+	rm -rf build $(VENV)

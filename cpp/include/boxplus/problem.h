@@ -1,0 +1,137 @@
+// boxplus::Problem — a least-squares problem on ⊞-manifolds, solved by Ceres.
+//
+// Variables live on manifolds (any ceres::Manifold, typically the boxplus ones);
+// boxplus owns their storage, their manifolds, and every cost and loss
+// function: the underlying ceres::Problem is built with ownership switched
+// off. Measurements are cost functions whose residual is already whitened,
+// r = L⁻¹(h(Y) ⊟ z); the solver minimises ½ Σ ρ(‖r‖²) with ⊞ steps.
+//
+// Every input is validated here and raises boxplus::Error / IndexError
+// naming the variable or measurement, so Ceres' aborting CHECKs are never
+// reached.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+
+#include <Eigen/Core>
+
+namespace ceres {
+class Problem;
+}
+
+namespace boxplus {
+
+enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg };
+
+// What the per-iteration callback sees.
+struct IterationInfo {
+  int iteration = 0;
+  double cost = 0.0;  // ½ Σ ρ(‖r‖²)
+  double cost_change = 0.0;
+  double gradient_max_norm = 0.0;
+  double step_norm = 0.0;
+  double trust_region_radius = 0.0;
+  double iteration_time_s = 0.0;
+  double cumulative_time_s = 0.0;
+  bool step_is_successful = false;
+};
+
+struct SolverOptions {
+  Method method = Method::kLevenbergMarquardt;
+  int max_iterations = 100;
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+  int num_threads = 1;
+  // Print one line per iteration (cost, change, time) to stderr.
+  bool verbose = false;
+  // Called after every iteration; return false to stop early (Ctrl-C). The
+  // estimate is then the last accepted one.
+  std::function<bool(const IterationInfo&)> on_iteration;
+};
+
+struct SolveSummary {
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  int iterations = 0;
+  double time_s = 0.0;
+  std::string termination;  // "convergence", "no_convergence", "interrupted", "failure"
+  std::string message;      // Ceres' own explanation
+  bool usable = false;      // the estimate may be used (converged or stopped early)
+  std::string report;       // Ceres' full report
+};
+
+// Called before Ceres evaluates residuals at a new point or needs Jacobians;
+// measurements that evaluate in bulk (vectorised Python functions) compute
+// here and serve the per-measurement Evaluate calls from a cache.
+using EvaluationHook = std::function<void(bool evaluate_jacobians, bool new_point)>;
+
+class Problem {
+ public:
+  Problem();
+  ~Problem();
+  Problem(const Problem&) = delete;
+  Problem& operator=(const Problem&) = delete;
+
+  // Adds a variable with initial value `init` (manifold->AmbientSize()
+  // doubles) and returns its id (0, 1, 2, ... in order of addition).
+  int AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
+                  const double* init, const std::string& name = "");
+  int num_variables() const { return static_cast<int>(vars_.size()); }
+  const std::string& variable_name(int id) const;
+  const ceres::Manifold& manifold(int id) const;
+  const double* value(int id) const;
+  double* mutable_value(int id);
+  void SetValue(int id, const double* ambient);
+  void SetFixed(int id, bool fixed = true);
+  bool IsFixed(int id) const;
+
+  // Adds a measurement depending on `var_ids` (in the order of the cost
+  // function's parameter blocks). `loss` may be null (plain least squares).
+  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
+                     const std::vector<int>& var_ids,
+                     std::shared_ptr<ceres::LossFunction> loss = nullptr,
+                     const std::string& name = "");
+  int num_measurements() const;
+  const std::string& measurement_name(int id) const;
+  const std::vector<int>& measurement_variables(int id) const;
+  int residual_size(int id) const;
+
+  void AddEvaluationHook(EvaluationHook hook);
+
+  SolveSummary Solve(const SolverOptions& options = {});
+
+  // Whitened residual of one measurement at the current values.
+  Eigen::VectorXd Residual(int measurement_id);
+  // ½ Σ ρ(‖r‖²) at the current values.
+  double Cost();
+
+  // Marginal covariance of a variable in its tangent space (after a solve).
+  // Throws when the problem does not determine the variable (rank-deficient).
+  Eigen::MatrixXd Covariance(int id);
+  // Joint covariance of several variables, blocks in the order given.
+  Eigen::MatrixXd JointCovariance(const std::vector<int>& ids);
+
+  ceres::Problem& ceres_problem() { return *problem_; }
+
+ private:
+  struct Variable;
+  struct Measurement;
+  class HookDispatcher;
+  void CheckVariable(int id) const;
+  void CheckMeasurement(int id) const;
+
+  std::unique_ptr<HookDispatcher> hooks_;
+  std::unique_ptr<ceres::Problem> problem_;
+  std::vector<std::unique_ptr<Variable>> vars_;
+  std::vector<Measurement> meas_;
+};
+
+}  // namespace boxplus

@@ -1,0 +1,14 @@
+// Registration functions of the extension module boxplus._core, one per
+// area; module.cc calls them in dependency order.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace boxplus::python {
+
+void RegisterErrors(pybind11::module_& m);
+void RegisterManifolds(pybind11::module_& m);
+void RegisterValues(pybind11::module_& m);
+void RegisterProblem(pybind11::module_& m);
+
+}  // namespace boxplus::python

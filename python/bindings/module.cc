@@ -1,0 +1,10 @@
+#include "bindings.h"
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "boxplus._core: C++ core of boxplus (manifolds, problem, solver).";
+  m.attr("__version__") = BOXPLUS_VERSION;
+  boxplus::python::RegisterErrors(m);
+  boxplus::python::RegisterManifolds(m);
+  boxplus::python::RegisterValues(m);
+  boxplus::python::RegisterProblem(m);
+}

@@ -1,0 +1,175 @@
+// Bindings of boxplus::Problem: variables, priors, solving (with the GIL
+// released, Ctrl-C honoured between iterations), covariances.
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include "bindings.h"
+#include "boxplus/factors/make_prior.h"
+#include "boxplus/problem.h"
+#include "manifold_handle.h"
+
+namespace py = pybind11;
+
+namespace boxplus::python {
+namespace {
+
+Method ParseMethod(const std::string& name) {
+  if (name == "lm" || name == "levenberg_marquardt") return Method::kLevenbergMarquardt;
+  if (name == "gn" || name == "gauss_newton") return Method::kGaussNewton;
+  if (name == "dogleg") return Method::kDogleg;
+  throw py::value_error("unknown method '" + name + "' (expected 'lm', 'gn' or 'dogleg')");
+}
+
+py::dict InfoToDict(const IterationInfo& i) {
+  py::dict d;
+  d["iteration"] = i.iteration;
+  d["cost"] = i.cost;
+  d["cost_change"] = i.cost_change;
+  d["gradient_max_norm"] = i.gradient_max_norm;
+  d["step_norm"] = i.step_norm;
+  d["trust_region_radius"] = i.trust_region_radius;
+  d["iteration_time_s"] = i.iteration_time_s;
+  d["cumulative_time_s"] = i.cumulative_time_s;
+  d["step_is_successful"] = i.step_is_successful;
+  return d;
+}
+
+}  // namespace
+
+void RegisterProblem(py::module_& m) {
+  py::class_<SolveSummary>(m, "SolveSummary", "What a solve did and why it stopped.")
+      .def_readonly("initial_cost", &SolveSummary::initial_cost, "½‖F(X₀)‖²")
+      .def_readonly("final_cost", &SolveSummary::final_cost, "½‖F(X)‖² at the estimate")
+      .def_readonly("iterations", &SolveSummary::iterations)
+      .def_readonly("time_s", &SolveSummary::time_s)
+      .def_readonly("termination", &SolveSummary::termination,
+                    "'convergence', 'no_convergence', 'interrupted' or 'failure'")
+      .def_readonly("message", &SolveSummary::message)
+      .def_readonly("usable", &SolveSummary::usable)
+      .def_readonly("report", &SolveSummary::report, "Ceres' full report.")
+      .def("__repr__", [](const SolveSummary& s) {
+        return "<SolveSummary " + s.termination + ": cost " + std::to_string(s.initial_cost) +
+               " -> " + std::to_string(s.final_cost) + " in " + std::to_string(s.iterations) +
+               " iterations, " + std::to_string(s.time_s) + " s>";
+      });
+
+  py::class_<Problem>(m, "Problem", R"doc(
+The C++ least-squares problem: variables on manifolds and whitened residuals.
+The public, friendlier front is boxplus.OptimizationProblem.
+)doc")
+      .def(py::init<>())
+      .def(
+          "add_variable",
+          [](Problem& p, const ManifoldHandle& m, const Eigen::VectorXd& init,
+             const std::string& name) {
+            if (init.size() != m.manifold->AmbientSize()) {
+              throw py::value_error("variable '" + name + "': initial value has " +
+                                    std::to_string(init.size()) + " entries, the " + m.kind +
+                                    " manifold " + std::to_string(m.manifold->AmbientSize()));
+            }
+            return p.AddVariable(m.manifold, init.data(), name);
+          },
+          py::arg("manifold"), py::arg("init"), py::arg("name") = "")
+      .def_property_readonly("num_variables", &Problem::num_variables)
+      .def_property_readonly("num_measurements", &Problem::num_measurements)
+      .def(
+          "value", [](const Problem& p, int id) {
+            const int n = p.manifold(id).AmbientSize();
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(p.value(id), n));
+          },
+          py::arg("id"), "Copy of the variable's ambient vector.")
+      .def(
+          "set_value",
+          [](Problem& p, int id, const Eigen::VectorXd& v) {
+            if (v.size() != p.manifold(id).AmbientSize()) {
+              throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) + "'");
+            }
+            p.SetValue(id, v.data());
+          },
+          py::arg("id"), py::arg("value"))
+      .def("variable_name", &Problem::variable_name, py::arg("id"))
+      .def("measurement_name", &Problem::measurement_name, py::arg("id"))
+      .def("measurement_variables", &Problem::measurement_variables, py::arg("id"))
+      .def("set_fixed", &Problem::SetFixed, py::arg("id"), py::arg("fixed") = true)
+      .def("is_fixed", &Problem::IsFixed, py::arg("id"))
+      .def(
+          "add_prior",
+          [](Problem& p, int id, const Eigen::VectorXd& z, const Eigen::MatrixXd& sqrt_info,
+             const std::string& name) {
+            const std::string what = "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
+            return p.AddMeasurement(MakePrior(p.manifold(id), z, sqrt_info, what), {id}, nullptr,
+                                    name);
+          },
+          py::arg("id"), py::arg("z"), py::arg("sqrt_info"), py::arg("name") = "",
+          "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W = L⁻¹.")
+      .def(
+          "solve",
+          [](Problem& p, const std::string& method, int max_iterations, double function_tolerance,
+             double gradient_tolerance, double parameter_tolerance, int num_threads, bool verbose,
+             const py::object& callback) {
+            SolverOptions o;
+            o.method = ParseMethod(method);
+            o.max_iterations = max_iterations;
+            o.function_tolerance = function_tolerance;
+            o.gradient_tolerance = gradient_tolerance;
+            o.parameter_tolerance = parameter_tolerance;
+            o.num_threads = num_threads;
+            o.verbose = verbose;
+            // Python errors raised in the callback are kept and re-raised
+            // after Ceres has returned; Ctrl-C only stops the solve.
+            std::unique_ptr<py::error_already_set> pending;
+            o.on_iteration = [&](const IterationInfo& info) {
+              py::gil_scoped_acquire gil;
+              if (PyErr_CheckSignals() != 0) {
+                if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
+                  PyErr_Clear();
+                  return false;
+                }
+                pending = std::make_unique<py::error_already_set>();
+                return false;
+              }
+              if (!callback.is_none()) {
+                try {
+                  py::object r = callback(InfoToDict(info));
+                  if (!r.is_none() && !r.cast<bool>()) return false;
+                } catch (py::error_already_set& e) {
+                  pending = std::make_unique<py::error_already_set>(std::move(e));
+                  return false;
+                }
+              }
+              return true;
+            };
+            SolveSummary s;
+            {
+              py::gil_scoped_release release;
+              s = p.Solve(o);
+            }
+            if (pending) throw std::move(*pending);
+            return s;
+          },
+          py::arg("method") = "lm", py::arg("max_iterations") = 100,
+          py::arg("function_tolerance") = 1e-10, py::arg("gradient_tolerance") = 1e-12,
+          py::arg("parameter_tolerance") = 1e-10, py::arg("num_threads") = 1,
+          py::arg("verbose") = false, py::arg("callback") = py::none(),
+          R"doc(
+Minimises ½ Σ ρ(‖rᵢ‖²) with ⊞ steps.
+
+Parameters
+----------
+method : {'lm', 'gn', 'dogleg'}
+    Levenberg–Marquardt, Gauss–Newton (undamped, steps that raise the cost are
+    rejected), or Powell's dogleg.
+callback : callable, optional
+    Called after each iteration with a dict (iteration, cost, ...); return
+    False to stop. Ctrl-C stops the solve and keeps the last accepted estimate
+    (termination 'interrupted').
+)doc")
+      .def("cost", &Problem::Cost, "½ Σ ρ(‖rᵢ‖²) at the current values.")
+      .def("residual", &Problem::Residual, py::arg("measurement_id"))
+      .def("covariance", &Problem::Covariance, py::arg("id"),
+           "Marginal covariance in the variable's tangent space.")
+      .def("joint_covariance", &Problem::JointCovariance, py::arg("ids"));
+}
+
+}  // namespace boxplus::python

@@ -1,0 +1,303 @@
+// Bindings of the manifold value types: SO2, SO3, SE2, SE3, S2 and Rn.
+//
+// Every value supports ``x + delta`` (⊞, delta a vector of x.dof entries),
+// ``y - x`` (⊟, same type on both sides), ``len(x) == x.dof``, ``x.ambient``
+// (a copy of the storage vector), pickling, and ``manifold()``. Rotations and
+// poses compose with ``a * b`` (apply b first, then a) and act on points with
+// ``a * p`` for p of shape (d,) or (N, d); ``@`` is the same operator.
+// Pose tangent order is [translation, rotation]; quaternions are [x, y, z, w].
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/operators.h>
+
+#include <sstream>
+
+#include "bindings.h"
+#include "boxplus/manifolds.h"
+#include "manifold_handle.h"
+
+namespace py = pybind11;
+
+namespace boxplus::python {
+namespace {
+
+Eigen::VectorXd AsVector(const py::handle& obj, Eigen::Index n, const char* what) {
+  py::array_t<double, py::array::c_style | py::array::forcecast> a;
+  try {
+    a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  } catch (const py::error_already_set&) {
+  }
+  if (!a || a.size() != n || (a.ndim() > 1 && a.shape(0) != n)) {
+    std::ostringstream msg;
+    msg << what << ": expected a vector of " << n << " numbers, got "
+        << std::string(py::str(py::repr(obj)));
+    throw py::value_error(msg.str());
+  }
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), n);
+}
+
+// p of shape (d,) → (d,); (N, d) → (N, d), each row mapped by f.
+template <int D, class F>
+py::array_t<double> MapPoints(const py::array_t<double, py::array::c_style | py::array::forcecast>& p,
+                              F f, const char* who) {
+  if (p.ndim() == 1 && p.shape(0) == D) {
+    Eigen::Matrix<double, D, 1> v(p.data());
+    const Eigen::Matrix<double, D, 1> r = f(v);
+    py::array_t<double> out(D);
+    std::copy(r.data(), r.data() + D, out.mutable_data());
+    return out;
+  }
+  if (p.ndim() == 2 && p.shape(1) == D) {
+    const auto n = p.shape(0);
+    py::array_t<double> out({n, static_cast<py::ssize_t>(D)});
+    double* o = out.mutable_data();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      Eigen::Matrix<double, D, 1> v(p.data() + i * D);
+      const Eigen::Matrix<double, D, 1> r = f(v);
+      std::copy(r.data(), r.data() + D, o + i * D);
+    }
+    return out;
+  }
+  throw py::value_error(std::string(who) + ": points must have shape (" + std::to_string(D) +
+                        ",) or (N, " + std::to_string(D) + ")");
+}
+
+std::string Fmt(const Eigen::VectorXd& v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << "[";
+  for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i];
+  s << "]";
+  return s.str();
+}
+
+// ⊞, ⊟, dof, ambient, pickling and the manifold handle, shared by all kinds.
+template <class T, class Cls>
+void BindCommon(Cls& cls, const char* kind) {
+  cls.def_property_readonly_static("dof", [](py::object) { return T::kDof; },
+                                   "Tangent dimension (degrees of freedom).")
+      .def("__len__", [](const T&) { return T::kDof; })
+      .def(
+          "__add__",
+          [kind](const T& x, const py::object& delta) {
+            const Eigen::VectorXd d = AsVector(delta, T::kDof,
+                                               (std::string(kind) + " ⊞ δ").c_str());
+            return x.boxplus(typename T::Tangent(d));
+          },
+          py::arg("delta"))
+      .def(
+          "__sub__", [](const T& y, const T& x) { return Eigen::VectorXd(y.boxminus(x)); },
+          py::arg("x"))
+      .def("__sub__",
+           [kind](const T&, const py::object& other) -> Eigen::VectorXd {
+             throw py::type_error(std::string(kind) + " - x: x must be a " + kind +
+                                  ", got " + std::string(py::str(py::type::of(other).attr("__name__"))));
+           })
+      .def_property_readonly(
+          "ambient", [](const T& x) { return Eigen::VectorXd(x.ambient()); },
+          "Copy of the storage vector (the layout the solver uses).")
+      .def_static(
+          "from_ambient",
+          [kind](const Eigen::VectorXd& a) {
+            if (a.size() != T::kAmbient) {
+              throw py::value_error(std::string(kind) + ".from_ambient: expected " +
+                                    std::to_string(T::kAmbient) + " numbers");
+            }
+            return T::FromAmbient(a.data());
+          },
+          py::arg("a"))
+      .def_static(
+          "manifold",
+          [kind]() { return ManifoldHandle{MakeManifold(kind), kind}; },
+          "The manifold (⊞/⊟ for the solver) of this kind.")
+      .def("copy", [](const T& x) { return T(x); })
+      .def("__copy__", [](const T& x) { return T(x); })
+      .def("__deepcopy__", [](const T& x, py::dict) { return T(x); }, py::arg("memo"))
+      .def(py::pickle([](const T& x) { return py::make_tuple(Eigen::VectorXd(x.ambient())); },
+                      [](const py::tuple& t) {
+                        const Eigen::VectorXd a = t[0].cast<Eigen::VectorXd>();
+                        return T::FromAmbient(a.data());
+                      }));
+}
+
+}  // namespace
+
+void RegisterValues(py::module_& m) {
+  using Mat = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+  // ---- SO2 ------------------------------------------------------------------
+  py::class_<SO2> so2(m, "SO2", R"doc(
+Planar rotation by an angle φ (radians), kept in [-π, π).
+
+x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
+)doc");
+  so2.def(py::init<double>(), py::arg("phi") = 0.0)
+      .def_static("from_matrix", &SO2::FromMatrix, py::arg("R"))
+      .def_property_readonly("phi", &SO2::angle, "The angle in radians.")
+      .def_property_readonly("R", &SO2::matrix, "2×2 rotation matrix.")
+      .def("inverse", &SO2::inverse)
+      .def("__mul__", [](const SO2& a, const SO2& b) { return a * b; })
+      .def("__mul__", [](const SO2& a, const Mat& p) {
+        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(a * v); }, "SO2 * p");
+      })
+      .def("__repr__", [](const SO2& a) { return "SO2(phi=" + std::to_string(a.angle()) + ")"; });
+  so2.attr("__matmul__") = so2.attr("__mul__");
+  BindCommon<SO2>(so2, "SO2");
+
+  // ---- SO3 ------------------------------------------------------------------
+  py::class_<SO3> so3(m, "SO3", R"doc(
+3D rotation, stored as a unit quaternion [x, y, z, w].
+
+x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), |y - x| ≤ π.
+Construct with SO3() (identity), SO3(R) (3×3 matrix), SO3.from_quat([x, y, z, w])
+or SO3.exp(rotation_vector).
+)doc");
+  so3.def(py::init<>())
+      .def(py::init([](const Eigen::Matrix3d& R) { return SO3::FromMatrix(R); }), py::arg("R"))
+      .def_static("from_matrix", &SO3::FromMatrix, py::arg("R"))
+      .def_static(
+          "from_quat",
+          [](const py::object& q) { return SO3::FromQuaternion(AsVector(q, 4, "SO3.from_quat")); },
+          py::arg("q"), "From a quaternion [x, y, z, w] (normalised).")
+      .def_static(
+          "exp", [](const py::object& w) { return SO3::Exp(AsVector(w, 3, "SO3.exp")); },
+          py::arg("w"), "Rotation by |w| about w/|w|.")
+      .def("log", &SO3::Log, "Rotation vector, |log| ≤ π.")
+      .def_property_readonly("R", &SO3::matrix, "3×3 rotation matrix.")
+      .def_property_readonly("Q", &SO3::matrix, "3×3 rotation matrix (MTKM's name).")
+      .def_property_readonly("quat", &SO3::quat, "Unit quaternion [x, y, z, w].")
+      .def("inverse", &SO3::inverse)
+      .def("__mul__", [](const SO3& a, const SO3& b) { return a * b; })
+      .def("__mul__", [](const SO3& a, const Mat& p) {
+        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(a * v); }, "SO3 * p");
+      })
+      .def("__repr__", [](const SO3& a) { return "SO3(quat=" + Fmt(a.quat()) + ")"; });
+  so3.attr("__matmul__") = so3.attr("__mul__");
+  BindCommon<SO3>(so3, "SO3");
+
+  // ---- SE2 ------------------------------------------------------------------
+  py::class_<SE2> se2(m, "SE2", R"doc(
+Planar pose (position p, angle φ) = R² × SO(2), mapping local to parent.
+
+Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
+)doc");
+  se2.def(py::init<>())
+      .def(py::init([](const Eigen::Vector2d& pos, double phi) { return SE2(pos, phi); }),
+           py::arg("pos"), py::arg("phi"))
+      .def(py::init([](const Eigen::Vector2d& pos, const SO2& r) { return SE2(pos, r); }),
+           py::arg("pos"), py::arg("rot"))
+      .def_static("from_matrix", &SE2::FromMatrix, py::arg("T"))
+      .def_property_readonly("pos", &SE2::pos)
+      .def_property_readonly("phi", &SE2::angle)
+      .def_property_readonly("rot", &SE2::rotation)
+      .def_property_readonly("R", [](const SE2& x) { return x.rotation().matrix(); })
+      .def("transform", &SE2::transform, "3×3 homogeneous matrix, local → parent.")
+      .def("fromlocal", [](const SE2& x, const Mat& p) {
+        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return x.fromlocal(v); }, "fromlocal");
+      }, py::arg("v"), "R v + p: local → parent coordinates.")
+      .def("tolocal", [](const SE2& x, const Mat& p) {
+        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return x.tolocal(v); }, "tolocal");
+      }, py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
+      .def("inverse", &SE2::inverse)
+      .def("__mul__", [](const SE2& a, const SE2& b) { return a * b; })
+      .def("__mul__", [](const SE2& a, const Mat& p) {
+        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return a.fromlocal(v); }, "SE2 * p");
+      })
+      .def("__repr__", [](const SE2& a) { return "SE2(pos=" + Fmt(a.pos()) + ", phi=" + std::to_string(a.angle()) + ")"; });
+  se2.attr("__matmul__") = se2.attr("__mul__");
+  BindCommon<SE2>(se2, "SE2");
+
+  // ---- SE3 ------------------------------------------------------------------
+  py::class_<SE3> se3(m, "SE3", R"doc(
+Rigid transform (rotation R, position p) = R³ × SO(3), mapping local to parent.
+
+Tangent order [δp (3), δθ (3)]: x + δ = (p + δp, R·exp(δθ)). Construct with
+SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
+)doc");
+  se3.def(py::init<>())
+      .def(py::init([](const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+             return SE3(SO3::FromMatrix(R), t);
+           }),
+           py::arg("R"), py::arg("t"))
+      .def(py::init([](const SO3& R, const Eigen::Vector3d& t) { return SE3(R, t); }),
+           py::arg("R"), py::arg("t"))
+      .def_static("from_matrix", &SE3::FromMatrix, py::arg("T"))
+      .def_property_readonly("pos", &SE3::pos, "Position (translation) p.")
+      .def_property_readonly("t", &SE3::pos, "Same as pos.")
+      .def_property_readonly("rot", &SE3::rotation, "Orientation as an SO3.")
+      .def_property_readonly("R", [](const SE3& x) { return x.rotation().matrix(); })
+      .def_property_readonly("Q", [](const SE3& x) { return x.rotation().matrix(); })
+      .def_property_readonly("quat", [](const SE3& x) { return x.rotation().quat(); })
+      .def("transform", &SE3::transform, "4×4 homogeneous matrix, local → parent.")
+      .def("matrix", &SE3::transform, "Same as transform().")
+      .def("fromlocal", [](const SE3& x, const Mat& p) {
+        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return x.fromlocal(v); }, "fromlocal");
+      }, py::arg("v"), "R v + p: local → parent coordinates.")
+      .def("tolocal", [](const SE3& x, const Mat& p) {
+        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return x.tolocal(v); }, "tolocal");
+      }, py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
+      .def("inverse", &SE3::inverse)
+      .def("__mul__", [](const SE3& a, const SE3& b) { return a * b; })
+      .def("__mul__", [](const SE3& a, const Mat& p) {
+        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return a.fromlocal(v); }, "SE3 * p");
+      })
+      .def("__repr__", [](const SE3& a) {
+        return "SE3(pos=" + Fmt(a.pos()) + ", quat=" + Fmt(a.rotation().quat()) + ")";
+      });
+  se3.attr("__matmul__") = se3.attr("__mul__");
+  BindCommon<SE3>(se3, "SE3");
+
+  // ---- S2 -------------------------------------------------------------------
+  py::class_<S2> s2(m, "S2", R"doc(
+Unit 3-vector (a direction), 2 DOF.
+
+x + δ = cos|δ| x + sinc|δ| B δ, with B = tangent_basis() (3×2, orthonormal,
+orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
+)doc");
+  s2.def(py::init<>())
+      .def(py::init([](const py::object& v) { return S2(AsVector(v, 3, "S2")); }), py::arg("v"))
+      .def_property_readonly("vec", &S2::vec, "The unit vector.")
+      .def("tangent_basis", &S2::tangent_basis)
+      .def("__repr__", [](const S2& a) { return "S2(" + Fmt(a.vec()) + ")"; });
+  BindCommon<S2>(s2, "S2");
+
+  // ---- Rn -------------------------------------------------------------------
+  py::class_<Rn> rn(m, "Rn", R"doc(
+A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
+)doc");
+  rn.def(py::init([](const py::object& arg) {
+          if (py::isinstance<py::int_>(arg)) {
+            const int n = arg.cast<int>();
+            if (n < 1) throw py::value_error("Rn(n): n must be at least 1");
+            return Rn(n);
+          }
+          py::array_t<double, py::array::c_style | py::array::forcecast> a =
+              py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arg);
+          if (!a || a.ndim() > 1 || a.size() < 1) {
+            throw py::value_error("Rn(v): v must be a non-empty vector or an int n");
+          }
+          return Rn(Eigen::Map<const Eigen::VectorXd>(a.data(), a.size()));
+        }),
+        py::arg("v"))
+      .def_property_readonly("vec", &Rn::vec)
+      .def_property_readonly("dof", &Rn::dof)
+      .def_property_readonly("ambient", &Rn::vec)
+      .def("__len__", &Rn::dof)
+      .def("__add__", [](const Rn& x, const py::object& d) {
+        return x.boxplus(AsVector(d, x.dof(), "Rn ⊞ δ"));
+      })
+      .def("__sub__", [](const Rn& y, const Rn& x) { return y.boxminus(x); })
+      .def("__sub__", [](const Rn&, const py::object& other) -> Eigen::VectorXd {
+        throw py::type_error("Rn - x: x must be an Rn, got " +
+                             std::string(py::str(py::type::of(other).attr("__name__"))));
+      })
+      .def("manifold", [](const Rn& x) { return ManifoldHandle{MakeManifold("Rn", x.dof()), "Rn"}; })
+      .def("copy", [](const Rn& x) { return Rn(x); })
+      .def("__copy__", [](const Rn& x) { return Rn(x); })
+      .def("__deepcopy__", [](const Rn& x, py::dict) { return Rn(x); }, py::arg("memo"))
+      .def(py::pickle([](const Rn& x) { return py::make_tuple(x.vec()); },
+                      [](const py::tuple& t) { return Rn(t[0].cast<Eigen::VectorXd>()); }))
+      .def("__repr__", [](const Rn& x) { return "Rn(" + Fmt(x.vec()) + ")"; });
+}
+
+}  // namespace boxplus::python

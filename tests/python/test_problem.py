@@ -1,0 +1,73 @@
+"""End-to-end smoke tests of the solver through the bindings."""
+
+import numpy as np
+import pytest
+
+import boxplus as bp
+
+
+def test_symmetric_rotation_average_is_the_centre():
+    rng = np.random.default_rng(1)
+    truth = bp.SO3.exp([0.4, -1.2, 2.5])
+    p = bp.Problem()
+    x = p.add_variable(bp.SO3.manifold(), bp.SO3().ambient, "R")
+    for _ in range(10):
+        d = rng.normal(0, 0.3, 3)
+        for s in (1, -1):
+            p.add_prior(x, (truth + s * d).ambient, np.eye(3))
+    s = p.solve(function_tolerance=1e-16, gradient_tolerance=1e-16, parameter_tolerance=1e-16)
+    assert s.usable and s.termination == "convergence"
+    assert np.linalg.norm(bp.SO3.from_ambient(p.value(x)) - truth) < 1e-7
+
+
+def test_weighted_se3_mean_matches_closed_form_and_covariance():
+    rng = np.random.default_rng(2)
+    truth = bp.SE3(bp.SO3.exp([-0.5, 0.2, 1.0]), [1.0, 2.0, 3.0])
+    p = bp.Problem()
+    x = p.add_variable(bp.SE3.manifold(), bp.SE3().ambient)
+    zs, ws = [], []
+    for k in range(25):
+        sigma = 0.1 + 0.1 * k
+        z = truth + np.concatenate([rng.normal(0, 0.5, 3), rng.normal(0, 0.2, 3)])
+        zs.append(z)
+        ws.append(1 / sigma**2)
+        p.add_prior(x, z.ambient, np.eye(6) / sigma)
+    p.solve(function_tolerance=1e-16, gradient_tolerance=1e-16, parameter_tolerance=1e-16)
+    est = bp.SE3.from_ambient(p.value(x))
+    ws = np.array(ws)
+    assert np.allclose(est.pos, sum(w * z.pos for w, z in zip(ws, zs)) / ws.sum(), atol=1e-9)
+    karcher = sum(w * (z.rot - est.rot) for w, z in zip(ws, zs))
+    assert np.linalg.norm(karcher) / ws.sum() < 1e-9
+    C = p.covariance(x)
+    assert C.shape == (6, 6)
+    assert np.allclose(C[:3, :3], np.eye(3) / ws.sum(), atol=1e-9)
+
+
+def test_bad_input_names_the_culprit():
+    p = bp.Problem()
+    x = p.add_variable(bp.SO3.manifold(), bp.SO3().ambient, "R")
+    with pytest.raises(IndexError, match="unknown variable id 5"):
+        p.value(5)
+    with pytest.raises(ValueError, match="'gyro'"):
+        p.add_prior(x, np.zeros(3), np.eye(3), name="gyro")
+    with pytest.raises(ValueError, match="initial value has 3 entries"):
+        p.add_variable(bp.SO3.manifold(), np.zeros(3), "R2")
+    with pytest.raises(ValueError, match="non-finite"):
+        p.add_variable(bp.SO3.manifold(), np.array([0, 0, 0, np.nan]), "R3")
+    with pytest.raises(ValueError, match="unknown method"):
+        p.solve(method="newton")
+
+
+def test_callback_can_stop_and_errors_propagate():
+    p = bp.Problem()
+    x = p.add_variable(bp.SO3.manifold(), bp.SO3().ambient)
+    p.add_prior(x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, np.eye(3))
+    seen = []
+    s = p.solve(callback=lambda info: seen.append(info["cost"]) or False)
+    assert s.termination == "interrupted" and s.usable and len(seen) == 1
+
+    def boom(info):
+        raise RuntimeError("from the callback")
+
+    with pytest.raises(RuntimeError, match="from the callback"):
+        p.solve(callback=boom)
