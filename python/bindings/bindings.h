@@ -10,5 +10,7 @@ void RegisterErrors(pybind11::module_& m);
 void RegisterManifolds(pybind11::module_& m);
 void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
+void RegisterPythonMeasurements(pybind11::module_& m);
+void RegisterFactors(pybind11::module_& m);
 
 }  // namespace boxplus::python

@@ -7,4 +7,6 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterManifolds(m);
   boxplus::python::RegisterValues(m);
   boxplus::python::RegisterProblem(m);
+  boxplus::python::RegisterPythonMeasurements(m);
+  boxplus::python::RegisterFactors(m);
 }

@@ -8,6 +8,7 @@
 #include "boxplus/factors/make_prior.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
+#include "pending_error.h"
 
 namespace py = pybind11;
 
@@ -33,6 +34,19 @@ py::dict InfoToDict(const IterationInfo& i) {
   d["cumulative_time_s"] = i.cumulative_time_s;
   d["step_is_successful"] = i.step_is_successful;
   return d;
+}
+
+// Runs f; if a Python callback failed inside it, raises that error instead
+// of the generic C++ one.
+template <class F>
+auto RaisingPython(F f) {
+  TakePendingError();
+  try {
+    return f();
+  } catch (const std::exception&) {
+    if (auto e = TakePendingError()) throw std::move(*e);
+    throw;
+  }
 }
 
 }  // namespace
@@ -96,12 +110,13 @@ The public, friendlier front is boxplus.OptimizationProblem.
       .def(
           "add_prior",
           [](Problem& p, int id, const Eigen::VectorXd& z, const Eigen::MatrixXd& sqrt_info,
-             const std::string& name) {
+             const std::string& name, const LossHandle* loss) {
             const std::string what = "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
-            return p.AddMeasurement(MakePrior(p.manifold(id), z, sqrt_info, what), {id}, nullptr,
-                                    name);
+            return p.AddMeasurement(MakePrior(p.manifold(id), z, sqrt_info, what), {id},
+                                    loss ? loss->loss : nullptr, name);
           },
           py::arg("id"), py::arg("z"), py::arg("sqrt_info"), py::arg("name") = "",
+          py::arg("loss") = nullptr,
           "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W = L⁻¹.")
       .def(
           "solve",
@@ -119,8 +134,10 @@ The public, friendlier front is boxplus.OptimizationProblem.
             // Python errors raised in the callback are kept and re-raised
             // after Ceres has returned; Ctrl-C only stops the solve.
             std::unique_ptr<py::error_already_set> pending;
+            TakePendingError();  // a stale error from an earlier evaluation
             o.on_iteration = [&](const IterationInfo& info) {
               py::gil_scoped_acquire gil;
+              if (HasPendingError()) return false;
               if (PyErr_CheckSignals() != 0) {
                 if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
                   PyErr_Clear();
@@ -145,6 +162,13 @@ The public, friendlier front is boxplus.OptimizationProblem.
               py::gil_scoped_release release;
               s = p.Solve(o);
             }
+            if (!pending) pending = TakePendingError();
+            if (pending && pending->matches(PyExc_KeyboardInterrupt)) {
+              // Ctrl-C inside a Python measurement: keep the estimate.
+              s.termination = "interrupted";
+              s.usable = true;
+              pending.reset();
+            }
             if (pending) throw std::move(*pending);
             return s;
           },
@@ -165,8 +189,11 @@ callback : callable, optional
     False to stop. Ctrl-C stops the solve and keeps the last accepted estimate
     (termination 'interrupted').
 )doc")
-      .def("cost", &Problem::Cost, "½ Σ ρ(‖rᵢ‖²) at the current values.")
-      .def("residual", &Problem::Residual, py::arg("measurement_id"))
+      .def("cost", [](Problem& p) { return RaisingPython([&] { return p.Cost(); }); },
+           "½ Σ ρ(‖rᵢ‖²) at the current values.")
+      .def("residual",
+           [](Problem& p, int id) { return RaisingPython([&] { return p.Residual(id); }); },
+           py::arg("measurement_id"), "Whitened residual of one measurement.")
       .def("covariance", &Problem::Covariance, py::arg("id"),
            "Marginal covariance in the variable's tangent space.")
       .def("joint_covariance", &Problem::JointCovariance, py::arg("ids"));

@@ -3,40 +3,65 @@
 Manifold values behave like vectors from outside: ``x + delta`` is ⊞ and
 ``y - x`` is ⊟. Poses use the tangent order [translation, rotation];
 quaternions are [x, y, z, w].
+
+The main entry point is :class:`OptimizationProblem`::
+
+    p = boxplus.OptimizationProblem()
+    x = p.add_random_var(boxplus.SE3())
+    p.add_measurement(z, f, [x], constants=(...), sigma=0.5)
+    result = p.solve()
 """
 
 from boxplus._core import (
-    SE2,
-    SE3,
-    SO2,
-    SO3,
-    S2,
     BoxplusError,
     BoxplusIndexError,
+    Loss,
     Manifold,
     ParseError,
     Problem,
-    Rn,
     SolveSummary,
     __version__,
     make_manifold,
     make_product_manifold,
 )
+from boxplus.manifolds import (
+    S2,
+    SE2,
+    SE3,
+    SO2,
+    SO3,
+    Codec,
+    ManifoldValue,
+    Rn,
+    codec_of,
+    make_compound,
+)
+from boxplus.problem import EvaluationError, OptimizationProblem, SolveResult
+from boxplus import batch
 
 __all__ = [
+    "S2",
     "SE2",
     "SE3",
     "SO2",
     "SO3",
-    "S2",
-    "Rn",
     "BoxplusError",
     "BoxplusIndexError",
+    "Codec",
+    "EvaluationError",
+    "Loss",
     "Manifold",
+    "ManifoldValue",
+    "OptimizationProblem",
     "ParseError",
     "Problem",
+    "Rn",
+    "SolveResult",
     "SolveSummary",
     "__version__",
+    "batch",
+    "codec_of",
+    "make_compound",
     "make_manifold",
     "make_product_manifold",
 ]

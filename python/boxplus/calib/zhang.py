@@ -1,0 +1,142 @@
+"""Closed-form initialisation of a camera from views of a planar target.
+
+Z. Zhang, "A flexible new technique for camera calibration", IEEE PAMI 22(11),
+2000: a homography per view (normalised DLT), the intrinsic matrix from the
+constraints each homography puts on B = K⁻ᵀK⁻¹ (Sec. 3.1), and each view's pose
+from K⁻¹H (Sec. 3.1, eq. 12), projected onto SO(3).
+
+Frames: the target's points are ``p_in_board`` with z = 0; a pose returned as
+``board_to_cam`` maps them into the camera frame (p_in_cam = R p + t).
+"""
+
+from __future__ import annotations
+
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+from boxplus.manifolds import SE3, SO3
+
+__all__ = ["homography", "init_camera", "intrinsics_from_homographies", "pose_from_homography"]
+
+
+def _normaliser(p: np.ndarray) -> np.ndarray:
+    """Similarity moving p's centroid to 0 and its mean distance to √2 (Hartley)."""
+    c = p.mean(axis=0)
+    d = np.mean(np.linalg.norm(p - c, axis=1))
+    s = np.sqrt(2) / max(d, 1e-12)
+    return np.array([[s, 0, -s * c[0]], [0, s, -s * c[1]], [0, 0, 1]])
+
+
+def homography(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """H with dst ~ H src, from ≥ 4 point pairs (N, 2), by normalised DLT."""
+    src = np.asarray(src, dtype=float)
+    dst = np.asarray(dst, dtype=float)
+    if src.shape != dst.shape or src.ndim != 2 or src.shape[1] != 2 or len(src) < 4:
+        raise ValueError(f"homography needs two (N, 2) arrays with N >= 4, got {src.shape}, {dst.shape}")
+    Ts, Td = _normaliser(src), _normaliser(dst)
+    s = (Ts @ np.column_stack([src, np.ones(len(src))]).T).T
+    d = (Td @ np.column_stack([dst, np.ones(len(dst))]).T).T
+    A = np.zeros((2 * len(src), 9))
+    A[0::2, 0:3] = s
+    A[0::2, 6:9] = -d[:, 0:1] * s
+    A[1::2, 3:6] = s
+    A[1::2, 6:9] = -d[:, 1:2] * s
+    _, sv, Vt = np.linalg.svd(A)
+    if sv[-2] < 1e-12 * sv[0]:
+        raise ValueError("homography: the points are degenerate (collinear or repeated)")
+    H = np.linalg.solve(Td, Vt[-1].reshape(3, 3) @ Ts)
+    return H / H[2, 2]
+
+
+def _v(H: np.ndarray, i: int, j: int) -> np.ndarray:
+    h = H.T  # rows h_i = columns of H
+    return np.array([
+        h[i, 0] * h[j, 0],
+        h[i, 0] * h[j, 1] + h[i, 1] * h[j, 0],
+        h[i, 1] * h[j, 1],
+        h[i, 2] * h[j, 0] + h[i, 0] * h[j, 2],
+        h[i, 2] * h[j, 1] + h[i, 1] * h[j, 2],
+        h[i, 2] * h[j, 2],
+    ])
+
+
+def intrinsics_from_homographies(
+    Hs: Sequence[np.ndarray], image_size: Tuple[int, int] | None = None
+) -> np.ndarray:
+    """K (3×3, zero skew) from board→image homographies (Zhang, Sec. 3.1).
+
+    With fewer than 3 views the principal point is fixed at the image centre
+    (``image_size`` = (width, height) is then required) and only fx, fy are solved.
+    """
+    if len(Hs) >= 3:
+        # zero skew adds the row [0 1 0 0 0 0] b = 0
+        V = [np.array([0, 1, 0, 0, 0, 0.0])]
+        for H in Hs:
+            H = H / np.linalg.norm(H)
+            V.append(_v(H, 0, 1))
+            V.append(_v(H, 0, 0) - _v(H, 1, 1))
+        _, _, Vt = np.linalg.svd(np.array(V))
+        b = Vt[-1]
+        B11, B12, B22, B13, B23, B33 = b
+        v0 = (B12 * B13 - B11 * B23) / (B11 * B22 - B12**2)
+        lam = B33 - (B13**2 + v0 * (B12 * B13 - B11 * B23)) / B11
+        if lam / B11 > 0 and lam * B11 / (B11 * B22 - B12**2) > 0:
+            alpha = np.sqrt(lam / B11)
+            beta = np.sqrt(lam * B11 / (B11 * B22 - B12**2))
+            u0 = -B13 * alpha**2 / lam
+            return np.array([[alpha, 0, u0], [0, beta, v0], [0, 0, 1.0]])
+        if image_size is None:
+            raise ValueError("Zhang's closed form failed (views too similar); give image_size")
+    if image_size is None:
+        raise ValueError("fewer than 3 views: image_size is needed to fix the principal point")
+    cx, cy = image_size[0] / 2.0, image_size[1] / 2.0
+    C = np.array([[1, 0, -cx], [0, 1, -cy], [0, 0, 1.0]])
+    # With the principal point known, h1ᵀBh2 = 0 and h1ᵀBh1 = h2ᵀBh2 are linear in
+    # (1/fx², 1/fy²).
+    rows, rhs = [], []
+    for H in Hs:
+        G = C @ H
+        g1, g2 = G[:, 0], G[:, 1]
+        rows.append([g1[0] * g2[0], g1[1] * g2[1]])
+        rhs.append(-g1[2] * g2[2])
+        rows.append([g1[0] ** 2 - g2[0] ** 2, g1[1] ** 2 - g2[1] ** 2])
+        rhs.append(-(g1[2] ** 2 - g2[2] ** 2))
+    x, *_ = np.linalg.lstsq(np.array(rows), np.array(rhs), rcond=None)
+    if np.any(x <= 0):
+        f = float(max(image_size))  # a plain guess: 90° field of view order
+        return np.array([[f, 0, cx], [0, f, cy], [0, 0, 1.0]])
+    return np.array([[1 / np.sqrt(x[0]), 0, cx], [0, 1 / np.sqrt(x[1]), cy], [0, 0, 1.0]])
+
+
+def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
+    """board_to_cam from K and the board→image homography (Zhang, eq. 12)."""
+    A = np.linalg.solve(K, H)
+    lam = 1.0 / np.linalg.norm(A[:, 0])
+    if A[2, 2] * lam < 0:  # the board must be in front of the camera
+        lam = -lam
+    r1, r2, t = lam * A[:, 0], lam * A[:, 1], lam * A[:, 2]
+    U, _, Vt = np.linalg.svd(np.column_stack([r1, r2, np.cross(r1, r2)]))
+    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    return SE3(SO3(R), t)
+
+
+def init_camera(
+    object_points: np.ndarray, image_points: Sequence[np.ndarray], image_size: Tuple[int, int]
+) -> Tuple[np.ndarray, List[SE3]]:
+    """K and one board_to_cam pose per view, from a planar target (z = 0).
+
+    Parameters
+    ----------
+    object_points : (M, 3)
+        Target points in the board frame, all with z = 0.
+    image_points : sequence of (M, 2)
+        Their detections in each view (pixels).
+    image_size : (width, height)
+    """
+    obj = np.asarray(object_points, dtype=float)
+    if obj.ndim != 2 or obj.shape[1] != 3 or np.abs(obj[:, 2]).max() > 1e-9 * max(1.0, np.abs(obj).max()):
+        raise ValueError("init_camera: object_points must be (M, 3) with z = 0 (a planar target)")
+    Hs = [homography(obj[:, :2], np.asarray(p, dtype=float)) for p in image_points]
+    K = intrinsics_from_homographies(Hs, image_size)
+    return K, [pose_from_homography(K, H) for H in Hs]
