@@ -20,7 +20,8 @@ deps:
 venv: deps
 	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
 	@$(VPY) -m pip install -q --disable-pip-version-check \
-	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib
+	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
+	    "opencv-python-headless>=4.8,<5"
 
 # pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
 install: venv

@@ -1,8 +1,10 @@
-"""boxplus demo: fuse noisy observations of a camera pose on SE(3).
+"""boxplus demo on the bundled data.
 
-Twenty noisy observations z_i of one pose are fused by minimising
-Σ ‖L⁻¹ (x ⊟ z_i)‖² with ⊞-steps; the result is printed with its standard
-deviations, read in the tangent space [translation, rotation] of SE(3).
+1. Fuse twenty noisy observations z_i of one camera pose on SE(3) by minimising
+   Σ ‖L⁻¹ (x ⊟ z_i)‖² with ⊞-steps; print the estimate and its error in units of
+   the reported standard deviations (tangent space [translation, rotation]).
+2. Calibrate a camera from OpenCV's chessboard sample (the MTKM paper's Listing 1,
+   examples/camera_calibration.py) and compare with cv2.calibrateCamera.
 """
 
 import numpy as np
@@ -35,3 +37,7 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    print()
+    import camera_calibration
+
+    camera_calibration.main()

@@ -145,14 +145,22 @@ class SO3Batch:
     """N rotations: ``.quat`` (N, 4) [x, y, z, w], ``.R`` (N, 3, 3)."""
 
     def __init__(self, quat: np.ndarray) -> None:
-        self.quat = np.asarray(quat, dtype=float)
+        self._quat = np.asarray(quat, dtype=float)
         self._R = None
 
     @classmethod
     def from_matrix(cls, R: np.ndarray) -> "SO3Batch":
-        b = cls(matrix_to_quat(R))
+        """From rotation matrices (N, 3, 3); the quaternions are computed when asked for."""
+        b = cls.__new__(cls)
+        b._quat = None
         b._R = np.asarray(R, dtype=float)
         return b
+
+    @property
+    def quat(self) -> np.ndarray:
+        if self._quat is None:
+            self._quat = matrix_to_quat(self._R)
+        return self._quat
 
     @property
     def R(self) -> np.ndarray:
@@ -179,7 +187,7 @@ class SO3Batch:
     __matmul__ = __mul__
 
     def __len__(self) -> int:
-        return self.quat.shape[0]
+        return (self._quat if self._quat is not None else self._R).shape[0]
 
 
 class SE2Batch:
@@ -302,6 +310,36 @@ class CompoundBatch:
 
     def __len__(self) -> int:
         return self._ambient.shape[0]
+
+
+def _small_rotation(axis: int, h: float) -> np.ndarray:
+    c, s = np.cos(h), np.sin(h)
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    E = np.eye(3)
+    E[i, i] = E[j, j] = c
+    E[j, i], E[i, j] = s, -s
+    return E
+
+
+def perturbed_view(codec: Codec, base: Any, direction: int, h: np.ndarray) -> Any:
+    """The batch of base ⊞ (h · e_direction), built from the unperturbed batch
+    without a round trip through quaternions where the kind allows it (Rn, SO3,
+    SE3 with a step h that is the same for all rows); None otherwise."""
+    t = codec.value_type
+    if t is Rn:
+        v = base.vec.copy()
+        v[:, direction] += h
+        return RnBatch(v)
+    uniform = np.all(h == h[0])
+    if t is SO3 and uniform:
+        return SO3Batch.from_matrix(base.R @ _small_rotation(direction, h[0]))
+    if t is SE3 and uniform:
+        if direction < 3:
+            pos = base.pos.copy()
+            pos[:, direction] += h[0]
+            return SE3Batch(pos, base.rot)
+        return SE3Batch(base.pos, SO3Batch.from_matrix(base.R @ _small_rotation(direction - 3, h[0])))
+    return None
 
 
 def view(codec: Codec, X: np.ndarray) -> Any:

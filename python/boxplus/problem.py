@@ -196,14 +196,19 @@ class _Group:
             else:
                 C = ()
             self._packed = (ids, Z, W, C)
+            self._shared_W = W[0] if len(W) and np.all(W == W[0]) else None
         return self._packed
 
     # ---- evaluation ------------------------------------------------------------------
-    def errors(self, Xs: Sequence[np.ndarray]) -> np.ndarray:
-        """Unwhitened errors f(Y) ⊟ z, one row per measurement, at ambient values Xs."""
+    def errors(self, Xs: Sequence[np.ndarray], views: Optional[List[Any]] = None) -> np.ndarray:
+        """Unwhitened errors f(Y) ⊟ z, one row per measurement, at ambient values Xs
+        (``views``: batches of Xs already built, None where still to build)."""
         _, Z, _, C = self._pack()
         if self.vectorized:
-            views = [batch.view(c, X) for c, X in zip(self.slots, Xs)]
+            views = [
+                v if v is not None else batch.view(c, X)
+                for c, X, v in zip(self.slots, Xs, views or [None] * len(Xs))
+            ]
             Y = self.f(*views, *C)
             return self._minus_batch(Y, Z, len(Z))
         E = np.empty((Xs[0].shape[0], self.m))
@@ -255,20 +260,22 @@ class _Group:
 
     def _prepare(self, jacobians: bool, new_point: bool):
         if new_point or self._R is None:
-            _, _, W, _ = self._pack()
             Xs = self.current_values()
             E = self.errors(Xs)
             self._check_finite(E, Xs, "residual")
             self._X, self._E = Xs, E
-            self._R = np.einsum("nij,nj->ni", W, E)
+            self._R = self._whiten(E)
             self._J = None
         if jacobians and self._J is None:
             self._J = self._jacobians()
         return self._R, self._J
 
     def _jacobians(self) -> List[np.ndarray]:
-        _, _, W, _ = self._pack()
+        from boxplus.manifolds import Rn
+
         Xs = self._X
+        # The batches of the slots not being perturbed are built once.
+        base = [batch.view(c, X) for c, X in zip(self.slots, Xs)] if self.vectorized else None
         out = []
         for k, codec in enumerate(self.slots):
             X = Xs[k]
@@ -277,14 +284,29 @@ class _Group:
             for j in range(codec.dof):
                 D = np.zeros((X.shape[0], codec.dof))
                 D[:, j] = h[:, j]
-                plus = list(Xs)
-                plus[k] = codec.manifold.plus_batch(X, D)
-                minus = list(Xs)
-                minus[k] = codec.manifold.plus_batch(X, -D)
-                J[:, :, j] = (self.errors(plus) - self.errors(minus)) / (2 * h[:, j : j + 1])
+                E = []
+                for sign in (1.0, -1.0):
+                    moved = list(Xs)
+                    views = None
+                    if base is not None:
+                        views = list(base)
+                        views[k] = batch.perturbed_view(codec, base[k], j, sign * h[:, j])
+                    if views is None or views[k] is None:
+                        # ⊞ of Rⁿ is +: skip the round trip through C++
+                        step = sign * D
+                        moved[k] = X + step if codec.value_type is Rn else codec.manifold.plus_batch(X, step)
+                    E.append(self.errors(moved, views))
+                J[:, :, j] = (E[0] - E[1]) / (2 * h[:, j : j + 1])
             self._check_finite(J, Xs, f"Jacobian (variable {k})")
-            out.append(np.einsum("nij,njt->nit", W, J))
+            out.append(self._whiten(J))
         return out
+
+    def _whiten(self, A: np.ndarray) -> np.ndarray:
+        """W A row by row (A: (N, m) or (N, m, t)); one matrix product when W is shared."""
+        _, _, W, _ = self._pack()
+        if self._shared_W is not None:
+            return A @ self._shared_W.T if A.ndim == 2 else np.einsum("ij,njt->nit", self._shared_W, A)
+        return np.einsum("nij,nj->ni", W, A) if A.ndim == 2 else np.einsum("nij,njt->nit", W, A)
 
 
 class OptimizationProblem:
