@@ -1,0 +1,153 @@
+"""Runs the peers of the SLAM benchmark (GTSAM, g2o) on one g2o file.
+
+Each function starts from the given initial poses (rows aligned with
+``data['ids']`` of ``boxplus.slam.read_g2o_arrays``), fixes the same gauge
+(the first vertex) and returns the final poses in the same layout, the
+iteration count, the solve time and a trace of (time, objective) per iteration
+in the peer's own objective.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+
+def _rot_from_quat(q):
+    x, y, z, w = q / np.linalg.norm(q)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _quat_from_rot(R):
+    from scipy.spatial.transform import Rotation
+
+    return Rotation.from_matrix(R).as_quat()  # x y z w
+
+
+def gtsam_values(data, poses):
+    import gtsam
+
+    v = gtsam.Values()
+    for k, vid in enumerate(data["ids"]):
+        x = poses[k]
+        if data["dim"] == 3:
+            v.insert(vid, gtsam.Pose3(gtsam.Rot3(_rot_from_quat(x[3:])), np.array(x[:3])))
+        else:
+            v.insert(vid, gtsam.Pose2(float(x[0]), float(x[1]), float(x[2])))
+    return v
+
+
+def gtsam_graph(path, dim):
+    import gtsam
+
+    graph, _ = gtsam.readG2o(str(path), dim == 3)
+    return graph
+
+
+def run_gtsam(path, data, init, method="lm", max_iterations=100, tol=1e-10):
+    """GTSAM's own reader and optimiser (LM or GN); objective = 2·graph.error."""
+    import gtsam
+
+    graph = gtsam_graph(path, data["dim"])
+    values = gtsam_values(data, init)
+    g = gtsam.NonlinearFactorGraph(graph)
+    first = data["ids"][0]
+    if data["dim"] == 3:
+        g.add(gtsam.PriorFactorPose3(first, values.atPose3(first),
+                                     gtsam.noiseModel.Isotropic.Sigma(6, 1e-6)))
+    else:
+        g.add(gtsam.PriorFactorPose2(first, values.atPose2(first),
+                                     gtsam.noiseModel.Isotropic.Sigma(3, 1e-6)))
+    if method == "lm":
+        params = gtsam.LevenbergMarquardtParams()
+    else:
+        params = gtsam.GaussNewtonParams()
+    params.setMaxIterations(max_iterations)
+    params.setRelativeErrorTol(tol)
+    params.setAbsoluteErrorTol(0.0)
+    opt = (gtsam.LevenbergMarquardtOptimizer(g, values, params) if method == "lm"
+           else gtsam.GaussNewtonOptimizer(g, values, params))
+    trace = []
+    t0 = time.perf_counter()
+    # Step by step to record the objective after each iteration.
+    prev = 2 * graph.error(values)
+    it = 0
+    while it < max_iterations:
+        opt.iterate()
+        it += 1
+        cur = 2 * opt.error()
+        trace.append((time.perf_counter() - t0, cur))
+        if prev - cur <= tol * max(prev, 1e-300) and it > 1 or cur == 0.0:
+            break
+        prev = cur
+    elapsed = time.perf_counter() - t0
+    res = opt.values()
+    poses = np.empty_like(init)
+    for k, vid in enumerate(data["ids"]):
+        if data["dim"] == 3:
+            p = res.atPose3(vid)
+            poses[k, :3] = p.translation()
+            poses[k, 3:] = _quat_from_rot(p.rotation().matrix())
+        else:
+            p = res.atPose2(vid)
+            poses[k] = [p.x(), p.y(), p.theta()]
+    return {"poses": poses, "iterations": it, "time_s": elapsed, "trace": trace,
+            "objective": 2 * graph.error(res)}
+
+
+def run_g2o(path, data, init, method="gn", max_iterations=100):
+    """g2o (g2opy): its own reader, Eigen sparse Cholesky, GN or LM."""
+    import g2opy as g2o
+
+    opt = g2o.SparseOptimizer()
+    if data["dim"] == 3:
+        solver = g2o.BlockSolverSE3(g2o.LinearSolverEigenSE3())
+    else:
+        solver = g2o.BlockSolverSE2(g2o.LinearSolverEigenSE2())
+    algo = (g2o.OptimizationAlgorithmGaussNewton(solver) if method == "gn"
+            else g2o.OptimizationAlgorithmLevenberg(solver))
+    opt.set_algorithm(algo)
+    opt.load(str(path))
+    for k, vid in enumerate(data["ids"]):
+        x = init[k]
+        v = opt.vertex(vid)
+        if data["dim"] == 3:
+            T = np.eye(4)
+            T[:3, :3] = _rot_from_quat(x[3:])
+            T[:3, 3] = x[:3]
+            v.set_estimate(g2o.Isometry3d(T))
+        else:
+            v.set_estimate(g2o.SE2(float(x[0]), float(x[1]), float(x[2])))
+        v.set_fixed(k == 0)
+    opt.initialize_optimization()
+    opt.set_compute_batch_statistics(True)
+    t0 = time.perf_counter()
+    iterations = opt.optimize(max_iterations)
+    elapsed = time.perf_counter() - t0
+    trace = []
+    try:
+        cum = 0.0
+        for s in opt.batch_statistics():
+            cum += s.time_iteration
+            trace.append((cum, s.chi2))
+    except Exception:  # noqa: BLE001 - statistics are optional in old bindings
+        trace = []
+    poses = np.empty_like(init)
+    for k, vid in enumerate(data["ids"]):
+        est = opt.vertex(vid).estimate()
+        if data["dim"] == 3:
+            T = np.asarray(est.matrix())
+            poses[k, :3] = T[:3, 3]
+            poses[k, 3:] = _quat_from_rot(T[:3, :3])
+        else:
+            poses[k] = [est.translation()[0], est.translation()[1], est.rotation().angle()]
+    opt.compute_active_errors()
+    return {"poses": poses, "iterations": iterations, "time_s": elapsed, "trace": trace,
+            "objective": opt.chi2()}
