@@ -58,3 +58,40 @@ def test_imu_yaw_from_one_gravity_reading_is_named_undetermined():
     assert any(n.startswith("cam2imu.θ") for n in named), rep.warnings
     assert any("NOT DETERMINED" in w for w in rep.warnings)
     assert np.isinf(rep.std("cam2imu")[3:]).any()
+
+
+def test_hand_eye_ml_beats_every_opencv_closed_form():
+    pytest.importorskip("cv2")
+    ex = _example("hand_eye_calibration")
+    rms = ex.compare(trials=8, seed=3)
+    ml = rms.pop("boxplus ML")
+    assert len(rms) == 7  # 5 calibrateHandEye + 2 calibrateRobotWorldHandEye methods
+    for name, (et, er) in rms.items():
+        assert ml[0] <= et, f"{name}: translation {et} < boxplus {ml[0]}"
+    assert ml[0] < 0.75 * min(et for et, _ in rms.values())
+
+
+@pytest.mark.parametrize("noise", [0.3, 1.0])
+def test_hand_eye_within_3_sigma(noise):
+    ex = _example("hand_eye_calibration")
+    o, ids, X = ex.calibrate(ex.simulate(np.random.default_rng(5), pixel_sigma=noise))
+    rep = report(o)
+    assert not rep.undetermined
+    _pose_within(o, rep, ids["gripper2cam"], ex.TRUTH["cam2gripper"].inverse(), "gripper2cam")
+    _pose_within(o, rep, ids["base2board"], ex.TRUTH["board2base"].inverse(), "base2board")
+
+
+def test_figures_are_written(tmp_path):
+    from boxplus.calib.plot import plot_reprojection_errors, plot_rig
+
+    ex = _example("camera_imu_calibration")
+    data = ex.simulate(np.random.default_rng(2), n_views=4)
+    o, ids, _ = ex.calibrate(data)
+    plot_reprojection_errors(o, str(tmp_path / "errors.png"))
+    frames = {"imu": o[ids["cam2imu"]].inverse()}
+    frames.update({f"cam{i}": o[v] for i, v in enumerate(range(o.num_variables))
+                   if o.variable_name(v).startswith("cam2world")})
+    plot_rig(str(tmp_path / "rig.png"), frames, [(bp.SE3(), data["p_world"])],
+             {"marker": np.zeros((1, 3))}, length=0.05)
+    for f in ("errors.png", "rig.png"):
+        assert (tmp_path / f).read_bytes()[:4] == b"\x89PNG"
