@@ -54,10 +54,13 @@ ceres::Problem::Options NonOwningOptions(ceres::EvaluationCallback* callback) {
 
 class CallbackAdapter final : public ceres::IterationCallback {
  public:
-  CallbackAdapter(const SolverOptions& options, bool* interrupted)
-      : options_(options), interrupted_(interrupted) {}
+  CallbackAdapter(const SolverOptions& options, bool* interrupted,
+                  std::function<void()> on_accepted)
+      : options_(options), interrupted_(interrupted), on_accepted_(std::move(on_accepted)) {}
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& s) override {
+    // update_state_every_iteration: the variables hold the best point now.
+    if (s.iteration == 0 || s.step_is_successful) on_accepted_();
     IterationInfo info;
     info.iteration = s.iteration;
     info.cost = s.cost;
@@ -87,6 +90,7 @@ class CallbackAdapter final : public ceres::IterationCallback {
  private:
   const SolverOptions& options_;
   bool* interrupted_;
+  std::function<void()> on_accepted_;
 };
 
 }  // namespace
@@ -261,8 +265,20 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
   o.logging_type = ceres::SILENT;
   o.minimizer_progress_to_stdout = false;
   bool interrupted = false;
-  CallbackAdapter callback(options, &interrupted);
+  // The last accepted point: restored when the solve fails part-way (an
+  // evaluation error, Ctrl-C inside a measurement function), so the variables
+  // never hold a rejected trial point.
+  std::vector<std::vector<double>> best(vars_.size());
+  auto snapshot = [this, &best] {
+    for (size_t i = 0; i < vars_.size(); ++i) {
+      const double* d = vars_[i]->data.get();
+      best[i].assign(d, d + vars_[i]->manifold->AmbientSize());
+    }
+  };
+  snapshot();
+  CallbackAdapter callback(options, &interrupted, snapshot);
   o.callbacks.push_back(&callback);
+  o.update_state_every_iteration = true;
   std::string why;
   BOXPLUS_CHECK(o.IsValid(&why), "invalid solver options: ", why);
 
@@ -286,6 +302,12 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
   } else {
     out.termination = "failure";
     out.usable = false;
+  }
+  if (interrupted || s.termination_type == ceres::FAILURE) {
+    for (size_t i = 0; i < vars_.size(); ++i) {
+      std::copy(best[i].begin(), best[i].end(), vars_[i]->data.get());
+    }
+    out.final_cost = std::min(out.final_cost, out.initial_cost);
   }
   return out;
 }

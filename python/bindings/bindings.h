@@ -12,5 +12,6 @@ void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
 void RegisterPythonMeasurements(pybind11::module_& m);
 void RegisterFactors(pybind11::module_& m);
+void RegisterSlam(pybind11::module_& m);
 
 }  // namespace boxplus::python

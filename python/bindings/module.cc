@@ -9,4 +9,5 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterProblem(m);
   boxplus::python::RegisterPythonMeasurements(m);
   boxplus::python::RegisterFactors(m);
+  boxplus::python::RegisterSlam(m);
 }

@@ -187,6 +187,10 @@ Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
       .def(py::init([](const Eigen::Vector2d& pos, const SO2& r) { return SE2(pos, r); }),
            py::arg("pos"), py::arg("rot"))
       .def_static("from_matrix", &SE2::FromMatrix, py::arg("T"))
+      .def_static(
+          "exp", [](const py::object& d) { return SE2::Exp(AsVector(d, 3, "SE2.exp")); },
+          py::arg("delta"), "identity ⊞ [x, y, φ].")
+      .def("log", [](const SE2& x) { return Eigen::VectorXd(x.Log()); }, "x ⊟ identity.")
       .def_property_readonly("pos", &SE2::pos)
       .def_property_readonly("phi", &SE2::angle)
       .def_property_readonly("rot", &SE2::rotation)
@@ -222,6 +226,11 @@ SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
       .def(py::init([](const SO3& R, const Eigen::Vector3d& t) { return SE3(R, t); }),
            py::arg("R"), py::arg("t"))
       .def_static("from_matrix", &SE3::FromMatrix, py::arg("T"))
+      .def_static(
+          "exp", [](const py::object& d) { return SE3::Exp(AsVector(d, 6, "SE3.exp")); },
+          py::arg("delta"), "identity ⊞ [p, w] = (p, exp(w)) (the compound's chart).")
+      .def("log", [](const SE3& x) { return Eigen::VectorXd(x.Log()); },
+           "x ⊟ identity = [p, log R].")
       .def_property_readonly("pos", &SE3::pos, "Position (translation) p.")
       .def_property_readonly("t", &SE3::pos, "Same as pos.")
       .def_property_readonly("rot", &SE3::rotation, "Orientation as an SO3.")

@@ -77,6 +77,14 @@ TEST(SE3, TransformAndLocalCoordinates) {
   }
 }
 
+TEST(SE3, ExpLogRoundTrip) {
+  Eigen::Matrix<double, 6, 1> d;
+  d << 1, -2, 3, 0.3, -0.2, 2.9;
+  EXPECT_LT((SE3::Exp(d).Log() - d).norm(), 1e-12);
+  Eigen::Vector3d e(4, 5, -3.0);
+  EXPECT_LT((SE2::Exp(e).Log() - e).norm(), 1e-12);
+}
+
 TEST(SE3, BoxplusIsCompoundWithTranslationFirst) {
   const SE3 x(SO3::Exp(Eigen::Vector3d(0.1, 0.2, 0.3)), Eigen::Vector3d(1, 2, 3));
   Eigen::Matrix<double, 6, 1> d;

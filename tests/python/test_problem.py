@@ -71,3 +71,31 @@ def test_callback_can_stop_and_errors_propagate():
 
     with pytest.raises(RuntimeError, match="from the callback"):
         p.solve(callback=boom)
+
+
+def test_sigint_during_a_solve_returns_the_best_estimate(tmp_path):
+    """A real SIGINT (Ctrl-C) while Python measurement functions run."""
+    import os
+    import signal
+    import threading
+    import time
+
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn([3.0, -2.0]))
+
+    def slow_cube(v):
+        time.sleep(0.002)
+        return v.vec**3
+
+    for _ in range(20):
+        p.add_measurement([1.0, -1.0], slow_cube, [x])
+    initial = p.cost()
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        r = p.solve(max_iterations=10_000, function_tolerance=0, gradient_tolerance=0,
+                    parameter_tolerance=0)
+    finally:
+        timer.cancel()
+    assert r.termination == "interrupted" and r.usable
+    assert p.cost() < initial

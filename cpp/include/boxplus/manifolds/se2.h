@@ -61,6 +61,9 @@ class SE2 : public ManifoldValue<SE2, SE2Ops> {
   static SE2 FromAmbient(const double* a) {
     return SE2(Eigen::Vector2d(a[0], a[1]), a[2]);
   }
+  // identity ⊞ [p, φ] and x ⊟ identity: the compound's chart at the identity.
+  static SE2 Exp(const Eigen::Vector3d& tangent) { return SE2().boxplus(tangent); }
+  Tangent Log() const { return boxminus(SE2()); }
 
   Eigen::Vector2d pos() const { return x_.head<2>(); }
   double angle() const { return x_[2]; }

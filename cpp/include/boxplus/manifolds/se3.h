@@ -70,6 +70,12 @@ class SE3 : public ManifoldValue<SE3, SE3Ops> {
   static SE3 FromAmbient(const double* a) {
     return SE3(SO3::FromAmbient(a + 3), Eigen::Vector3d(a[0], a[1], a[2]));
   }
+  // identity ⊞ [p, w] = (p, exp(w)): the compound's chart at the identity.
+  static SE3 Exp(const Eigen::Matrix<double, 6, 1>& tangent) {
+    return SE3().boxplus(tangent);
+  }
+  // x ⊟ identity = [p, log R]; Exp(Log()) is the identity map.
+  Tangent Log() const { return boxminus(SE3()); }
 
   Eigen::Vector3d pos() const { return x_.head<3>(); }
   SO3 rotation() const { return SO3::FromAmbient(x_.data() + 3); }

@@ -1,0 +1,97 @@
+// A pose graph (g2o/TORO file) as a boxplus::Problem, and its chi2.
+//
+// Every vertex becomes a variable: SE2 poses (ambient [x, y, θ]), SE3 poses
+// (ambient [p, qx, qy, qz, qw], tangent [δp, δθ] — translation first, ⊞ the
+// compound R³ × SO(3)), 2D/3D points (Rⁿ). Every edge becomes a measurement
+// with the file's information matrix:
+//   EDGE_SE2 / EDGE2            → MakeRelativePose2D (factors/relative_pose2d.h)
+//   EDGE_SE3:QUAT / EDGE3       → MakeRelativePose3D in the chosen convention
+//                                 (g2o's, or GTSAM's SE(3)-log; relative_pose3d.h)
+//   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakePosePoint2D/3D (factors/pose_point.h)
+//   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/bearing_range.h)
+// optionally wrapped in a robust loss ρ with a width (Huber, Cauchy, ...).
+// The gauge: the vertices of the FIX lines are held constant, else the first
+// vertex of the file. The objective is Σ ρ(eᵀΩe) (chi2 without a robust loss;
+// Ceres reports half of it as its cost).
+//
+// The problem is built in C++ in one pass (no per-edge call from Python), and
+// Python/C++ code may extend it (problem(), AddEdge, AddVertex, Fix) before
+// solving. Save() writes the file back with the solution, ids and order kept.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <ceres/loss_function.h>
+
+#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/io/g2o.h"
+#include "boxplus/problem.h"
+
+namespace boxplus::slam {
+
+// "none" (null), "huber", "cauchy", "tukey", "arctan", "softl1" with width
+// δ > 0 (the residual norm √(eᵀΩe) where the kernel leaves the quadratic,
+// as g2o's robust-kernel width); throws on an unknown name.
+std::shared_ptr<ceres::LossFunction> MakeRobustLoss(const std::string& name, double width);
+
+// Cost function of one edge.
+std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
+                                                  PoseErrorConvention convention);
+
+// eᵀΩe of one edge at the given vertex values (ambient layouts as above).
+double EdgeChi2(const io::Edge& edge, const double* from, const double* to,
+                PoseErrorConvention convention);
+
+struct PoseGraphOptions {
+  PoseErrorConvention convention = PoseErrorConvention::kG2o;
+  std::string robust = "none";
+  double robust_width = 1.0;
+};
+
+class PoseGraph {
+ public:
+  // Builds the problem from `graph` (its vertex estimates are the initial
+  // values) and fixes the gauge.
+  explicit PoseGraph(io::Graph graph, const PoseGraphOptions& options = {});
+
+  Problem& problem() { return problem_; }
+  const io::Graph& graph() const { return graph_; }
+  const PoseGraphOptions& options() const { return options_; }
+
+  // Variable id of a vertex id; throws IndexError for an unknown id.
+  int variable(int vertex_id) const;
+  // Vertex ids, in the order of the variables (= file order of vertices).
+  std::vector<int> vertex_ids() const;
+  // The vertex held fixed for the gauge (first FIX id or first vertex).
+  int gauge_vertex() const { return gauge_vertex_; }
+  void Fix(int vertex_id, bool fixed = true);
+
+  // Adds a vertex / edge to both the graph (saved with it) and the problem.
+  int AddVertex(const io::Vertex& vertex);
+  int AddEdge(const io::Edge& edge);
+
+  SolveSummary Solve(const SolverOptions& options = {});
+
+  // Σ eᵀΩe over the graph's edges at the current values (no robust loss).
+  double Chi2(PoseErrorConvention convention) const;
+  double Chi2() const { return Chi2(options_.convention); }
+
+  // Copies the current values into the graph's vertex estimates.
+  void WriteBack();
+  // WriteBack(), then io::WriteG2o.
+  void Save(const std::string& path);
+
+ private:
+  void AddEdgeToProblem(const io::Edge& edge);
+  io::Graph graph_;
+  PoseGraphOptions options_;
+  Problem problem_;
+  std::vector<int> var_of_vertex_;  // index in graph_.vertices → variable id
+  std::shared_ptr<ceres::LossFunction> loss_;
+  int gauge_vertex_ = -1;
+};
+
+}  // namespace boxplus::slam

@@ -1,0 +1,164 @@
+#include "boxplus/slam/pose_graph.h"
+
+#include <cmath>
+
+#include "boxplus/errors.h"
+#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose_point.h"
+#include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/manifolds.h"
+
+namespace boxplus::slam {
+
+std::shared_ptr<ceres::LossFunction> MakeRobustLoss(const std::string& name, double width) {
+  if (name.empty() || name == "none") return nullptr;
+  BOXPLUS_CHECK(std::isfinite(width) && width > 0.0, "robust kernel '", name,
+                "': the width must be positive, got ", width);
+  if (name == "huber") return std::make_shared<ceres::HuberLoss>(width);
+  if (name == "cauchy") return std::make_shared<ceres::CauchyLoss>(width);
+  if (name == "tukey") return std::make_shared<ceres::TukeyLoss>(width);
+  if (name == "arctan") return std::make_shared<ceres::ArctanLoss>(width);
+  if (name == "softl1") return std::make_shared<ceres::SoftLOneLoss>(width);
+  throw Error("unknown robust kernel '" + name +
+              "' (expected none, huber, cauchy, tukey, arctan or softl1)");
+}
+
+std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e,
+                                                  PoseErrorConvention convention) {
+  const Eigen::VectorXd& z = e.measurement;
+  const Eigen::MatrixXd& I = e.information;
+  switch (e.kind) {
+    case io::EdgeKind::kSE2:
+      return MakeRelativePose2D(z, I, convention);
+    case io::EdgeKind::kSE3:
+      return MakeRelativePose3D(z, I, convention);
+    case io::EdgeKind::kSE2Point2:
+      return MakePosePoint2D(z, I);
+    case io::EdgeKind::kSE3Point3:
+      return MakePosePoint3D(z, I);
+    case io::EdgeKind::kSE2BearingRange:
+      return MakeBearingRange2D(z, I);
+  }
+  throw Error("unknown edge kind");
+}
+
+double EdgeChi2(const io::Edge& e, const double* a, const double* b,
+                PoseErrorConvention convention) {
+  const int n = io::ErrorSize(e.kind);
+  Eigen::VectorXd err(n);
+  const double* z = e.measurement.data();
+  switch (e.kind) {
+    case io::EdgeKind::kSE2: RelativePose2DError(a, b, z, err.data(), convention); break;
+    case io::EdgeKind::kSE3: RelativePose3DError(a, b, z, convention, err.data()); break;
+    case io::EdgeKind::kSE2Point2: PosePoint2DError(a, b, z, err.data()); break;
+    case io::EdgeKind::kSE3Point3: PosePoint3DError(a, b, z, err.data()); break;
+    case io::EdgeKind::kSE2BearingRange:
+      if (!BearingRange2DError(a, b, z, err.data())) return INFINITY;
+      break;
+  }
+  return err.dot(e.information * err);
+}
+
+namespace {
+
+std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
+  static const auto se2 = MakeManifold("SE2");
+  static const auto se3 = MakeManifold("SE3");
+  static const auto r2 = MakeManifold("Rn", 2);
+  static const auto r3 = MakeManifold("Rn", 3);
+  switch (kind) {
+    case io::VertexKind::kSE2: return se2;
+    case io::VertexKind::kSE3: return se3;
+    case io::VertexKind::kPoint2: return r2;
+    case io::VertexKind::kPoint3: return r3;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
+    : graph_(std::move(graph)), options_(options) {
+  loss_ = MakeRobustLoss(options_.robust, options_.robust_width);
+  var_of_vertex_.reserve(graph_.vertices.size());
+  for (const io::Vertex& v : graph_.vertices) {
+    var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
+                                                  "x" + std::to_string(v.id)));
+  }
+  for (const io::Edge& e : graph_.edges) AddEdgeToProblem(e);
+  const std::vector<int> fixed = graph_.FixedIds();
+  for (int id : fixed) Fix(id);
+  if (!fixed.empty()) {
+    gauge_vertex_ = fixed.front();
+  } else {
+    for (const auto& rec : graph_.order) {
+      if (rec.type != io::Graph::RecordType::kVertex) continue;
+      const io::Vertex& v = graph_.vertices[rec.index];
+      if (v.kind == io::VertexKind::kSE2 || v.kind == io::VertexKind::kSE3) {
+        gauge_vertex_ = v.id;
+        break;
+      }
+    }
+    if (gauge_vertex_ >= 0) Fix(gauge_vertex_);
+  }
+}
+
+void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
+  const int a = var_of_vertex_[graph_.VertexIndex(e.from)];
+  const int b = var_of_vertex_[graph_.VertexIndex(e.to)];
+  problem_.AddMeasurement(MakeEdgeCost(e, options_.convention), {a, b}, loss_,
+                          "edge " + std::to_string(e.from) + "-" + std::to_string(e.to));
+}
+
+int PoseGraph::variable(int vertex_id) const {
+  return var_of_vertex_[graph_.VertexIndex(vertex_id)];
+}
+
+std::vector<int> PoseGraph::vertex_ids() const {
+  std::vector<int> ids;
+  ids.reserve(graph_.vertices.size());
+  for (const auto& v : graph_.vertices) ids.push_back(v.id);
+  return ids;
+}
+
+void PoseGraph::Fix(int vertex_id, bool fixed) { problem_.SetFixed(variable(vertex_id), fixed); }
+
+int PoseGraph::AddVertex(const io::Vertex& v) {
+  const int idx = graph_.AddVertex(v);
+  var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
+                                                "x" + std::to_string(v.id)));
+  return var_of_vertex_[idx];
+}
+
+int PoseGraph::AddEdge(const io::Edge& e) {
+  const int idx = graph_.AddEdge(e);
+  AddEdgeToProblem(graph_.edges[idx]);
+  return problem_.num_measurements() - 1;
+}
+
+SolveSummary PoseGraph::Solve(const SolverOptions& options) { return problem_.Solve(options); }
+
+double PoseGraph::Chi2(PoseErrorConvention convention) const {
+  double sum = 0.0;
+  for (const io::Edge& e : graph_.edges) {
+    sum += EdgeChi2(e, problem_.value(var_of_vertex_[graph_.VertexIndex(e.from)]),
+                    problem_.value(var_of_vertex_[graph_.VertexIndex(e.to)]), convention);
+  }
+  return sum;
+}
+
+void PoseGraph::WriteBack() {
+  for (size_t i = 0; i < graph_.vertices.size(); ++i) {
+    io::Vertex& v = graph_.vertices[i];
+    const double* x = problem_.value(var_of_vertex_[i]);
+    std::copy(x, x + v.estimate.size(), v.estimate.data());
+    v.has_estimate = true;
+  }
+}
+
+void PoseGraph::Save(const std::string& path) {
+  WriteBack();
+  io::WriteG2o(path, graph_);
+}
+
+}  // namespace boxplus::slam

@@ -1,0 +1,287 @@
+#include "boxplus/slam/initialization.h"
+
+#include <cmath>
+#include <queue>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "boxplus/errors.h"
+#include "boxplus/manifolds/rotation_math.h"
+
+namespace boxplus::slam {
+namespace {
+
+using io::EdgeKind;
+using io::Graph;
+using io::VertexKind;
+
+bool IsPose(VertexKind k) { return k == VertexKind::kSE2 || k == VertexKind::kSE3; }
+bool IsPosePose(EdgeKind k) { return k == EdgeKind::kSE2 || k == EdgeKind::kSE3; }
+
+int RootIndex(const Graph& g, int root_id) {
+  if (root_id >= 0) return g.VertexIndex(root_id);
+  const auto fixed = g.FixedIds();
+  if (!fixed.empty()) return g.VertexIndex(fixed.front());
+  for (const auto& rec : g.order) {
+    if (rec.type == Graph::RecordType::kVertex && IsPose(g.vertices[rec.index].kind)) {
+      return rec.index;
+    }
+  }
+  throw Error("the graph has no pose vertex");
+}
+
+// Rigid transform in homogeneous form (2D: 3×3, 3D: 4×4) of an ambient vector.
+Eigen::Matrix4d ToMatrix(VertexKind kind, const Eigen::VectorXd& x) {
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  if (kind == VertexKind::kSE2) {
+    const double c = std::cos(x[2]), s = std::sin(x[2]);
+    T.topLeftCorner<2, 2>() << c, -s, s, c;
+    T(0, 3) = x[0];
+    T(1, 3) = x[1];
+  } else {
+    T.topLeftCorner<3, 3>() = Eigen::Quaterniond(x[6], x[3], x[4], x[5]).normalized().toRotationMatrix();
+    T.topRightCorner<3, 1>() = x.head<3>();
+  }
+  return T;
+}
+
+Eigen::VectorXd FromMatrix(VertexKind kind, const Eigen::Matrix4d& T) {
+  if (kind == VertexKind::kSE2) {
+    return Eigen::Vector3d(T(0, 3), T(1, 3), std::atan2(T(1, 0), T(0, 0)));
+  }
+  Eigen::VectorXd x(7);
+  x.head<3>() = T.topRightCorner<3, 1>();
+  x.tail<4>() = Eigen::Quaterniond(Eigen::Matrix3d(T.topLeftCorner<3, 3>())).normalized().coeffs();
+  return x;
+}
+
+Eigen::Matrix4d EdgeMatrix(const io::Edge& e) {
+  return ToMatrix(e.kind == EdgeKind::kSE2 ? VertexKind::kSE2 : VertexKind::kSE3, e.measurement);
+}
+
+// Places landmarks (vertices that are not poses) from their first observation.
+void PlaceLandmarks(Graph* g, const std::vector<char>& pose_done) {
+  std::vector<char> done(g->vertices.size(), 0);
+  for (const io::Edge& e : g->edges) {
+    if (IsPosePose(e.kind)) continue;
+    const int a = g->VertexIndex(e.from), b = g->VertexIndex(e.to);
+    if (done[b] || !pose_done[a]) continue;
+    const Eigen::Matrix4d T = ToMatrix(g->vertices[a].kind, g->vertices[a].estimate);
+    Eigen::Vector4d local(0, 0, 0, 1);
+    if (e.kind == EdgeKind::kSE2BearingRange) {
+      local.head<2>() << e.measurement[1] * std::cos(e.measurement[0]),
+          e.measurement[1] * std::sin(e.measurement[0]);
+    } else {
+      local.head(e.measurement.size()) = e.measurement;
+    }
+    const Eigen::Vector4d world = T * local;
+    g->vertices[b].estimate = world.head(g->vertices[b].estimate.size());
+    g->vertices[b].has_estimate = true;
+    done[b] = 1;
+  }
+}
+
+// Adjacency over pose–pose edges: for each vertex index, (edge index, other).
+std::vector<std::vector<std::pair<int, int>>> Adjacency(const Graph& g) {
+  std::vector<std::vector<std::pair<int, int>>> adj(g.vertices.size());
+  for (size_t k = 0; k < g.edges.size(); ++k) {
+    const io::Edge& e = g.edges[k];
+    if (!IsPosePose(e.kind)) continue;
+    const int a = g.VertexIndex(e.from), b = g.VertexIndex(e.to);
+    adj[a].emplace_back(static_cast<int>(k), b);
+    adj[b].emplace_back(static_cast<int>(k), a);
+  }
+  return adj;
+}
+
+std::vector<char> CheckConnected(const Graph& g, int root) {
+  const auto adj = Adjacency(g);
+  std::vector<char> seen(g.vertices.size(), 0);
+  std::queue<int> q;
+  q.push(root);
+  seen[root] = 1;
+  while (!q.empty()) {
+    const int a = q.front();
+    q.pop();
+    for (auto [k, b] : adj[a]) {
+      if (!seen[b]) {
+        seen[b] = 1;
+        q.push(b);
+      }
+    }
+  }
+  for (size_t i = 0; i < g.vertices.size(); ++i) {
+    BOXPLUS_CHECK(seen[i] || !IsPose(g.vertices[i].kind), "initialisation: pose vertex ",
+                  g.vertices[i].id, " is not connected to the root vertex ",
+                  g.vertices[root].id, " by pose-pose edges");
+  }
+  return seen;
+}
+
+}  // namespace
+
+InitMethod ParseInitMethod(const std::string& name) {
+  if (name == "file") return InitMethod::kFile;
+  if (name == "spanning-tree" || name == "odometry") return InitMethod::kSpanningTree;
+  if (name == "chordal") return InitMethod::kChordal;
+  throw Error("unknown initialisation '" + name + "' (expected file, spanning-tree or chordal)");
+}
+
+void Initialize(Graph* g, InitMethod method, int root_id) {
+  switch (method) {
+    case InitMethod::kFile:
+      if (!g->estimates_from_file) InitializeSpanningTree(g, root_id);
+      return;
+    case InitMethod::kSpanningTree: InitializeSpanningTree(g, root_id); return;
+    case InitMethod::kChordal: InitializeChordal(g, root_id); return;
+  }
+}
+
+void InitializeSpanningTree(Graph* g, int root_id) {
+  const int root = RootIndex(*g, root_id);
+  const auto adj = Adjacency(*g);
+  std::vector<char> done(g->vertices.size(), 0);
+  std::vector<Eigen::Matrix4d> T(g->vertices.size());
+  T[root] = ToMatrix(g->vertices[root].kind, g->vertices[root].estimate);
+  done[root] = 1;
+  std::queue<int> q;
+  q.push(root);
+  while (!q.empty()) {
+    const int a = q.front();
+    q.pop();
+    for (auto [k, b] : adj[a]) {
+      if (done[b]) continue;
+      const io::Edge& e = g->edges[k];
+      const Eigen::Matrix4d Z = EdgeMatrix(e);
+      // Edge from→to: T_to = T_from · Z.
+      T[b] = (g->VertexIndex(e.from) == a) ? Eigen::Matrix4d(T[a] * Z)
+                                           : Eigen::Matrix4d(T[a] * Z.inverse());
+      g->vertices[b].estimate = FromMatrix(g->vertices[b].kind, T[b]);
+      g->vertices[b].has_estimate = true;
+      done[b] = 1;
+      q.push(b);
+    }
+  }
+  CheckConnected(*g, root);
+  PlaceLandmarks(g, done);
+}
+
+void InitializeChordal(Graph* g, int root_id) {
+  const int root = RootIndex(*g, root_id);
+  CheckConnected(*g, root);
+  const int d = g->dimension == 3 ? 3 : 2;
+  // Unknown index of each pose (the root is eliminated).
+  std::vector<int> unk(g->vertices.size(), -1);
+  int n = 0;
+  for (size_t i = 0; i < g->vertices.size(); ++i) {
+    if (static_cast<int>(i) != root && IsPose(g->vertices[i].kind)) unk[i] = n++;
+  }
+  if (n == 0) return;
+  const Eigen::Matrix4d T_root = ToMatrix(g->vertices[root].kind, g->vertices[root].estimate);
+  const Eigen::MatrixXd R_root = T_root.topLeftCorner(d, d);
+
+  // Rotations: unknown x_i = (row k of R_i)ᵀ ∈ Rᵈ for k = 0..d−1 (d right-hand
+  // sides, one matrix). Residual of edge i→j: x_j − Zᵀ x_i.
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n * d, d);
+  std::vector<double> tau(g->edges.size(), 0.0);
+  auto add_block = [&](int r, int c, const Eigen::MatrixXd& B) {
+    for (int a = 0; a < d; ++a)
+      for (int b = 0; b < d; ++b)
+        if (B(a, b) != 0.0) trip.emplace_back(r * d + a, c * d + b, B(a, b));
+  };
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(d, d);
+  for (size_t k = 0; k < g->edges.size(); ++k) {
+    const io::Edge& e = g->edges[k];
+    if (!IsPosePose(e.kind)) continue;
+    const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
+    const Eigen::MatrixXd Z = EdgeMatrix(e).topLeftCorner(d, d);
+    double kappa;
+    if (d == 3) {
+      kappa = 3.0 / (2.0 * e.information.bottomRightCorner<3, 3>().inverse().trace());
+      tau[k] = 3.0 / e.information.topLeftCorner<3, 3>().inverse().trace();
+    } else {
+      kappa = e.information(2, 2);
+      tau[k] = 2.0 / e.information.topLeftCorner<2, 2>().inverse().trace();
+    }
+    // ‖x_j − Zᵀx_i‖²: H_ii += κ ZZᵀ = κI, H_jj += κI, H_ij = −κZ, H_ji = −κZᵀ.
+    if (unk[i] >= 0) add_block(unk[i], unk[i], kappa * I);
+    if (unk[j] >= 0) add_block(unk[j], unk[j], kappa * I);
+    if (unk[i] >= 0 && unk[j] >= 0) {
+      add_block(unk[i], unk[j], -kappa * Z);
+      add_block(unk[j], unk[i], -kappa * Z.transpose());
+    } else if (unk[j] >= 0) {  // i is the root: x_i known (column k = row k of R_root)
+      rhs.block(unk[j] * d, 0, d, d) += kappa * Z.transpose() * R_root.transpose();
+    } else if (unk[i] >= 0) {  // j is the root
+      rhs.block(unk[i] * d, 0, d, d) += kappa * Z * R_root.transpose();
+    }
+  }
+  Eigen::SparseMatrix<double> H(n * d, n * d);
+  H.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
+  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, "chordal initialisation: singular system");
+  const Eigen::MatrixXd X = ldlt.solve(rhs);
+  std::vector<Eigen::MatrixXd> R(g->vertices.size());
+  R[root] = R_root;
+  for (size_t i = 0; i < g->vertices.size(); ++i) {
+    if (unk[i] < 0) continue;
+    const Eigen::MatrixXd M = X.block(unk[i] * d, 0, d, d).transpose();  // rows of R_i
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::MatrixXd D = Eigen::MatrixXd::Identity(d, d);
+    D(d - 1, d - 1) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+    R[i] = svd.matrixU() * D * svd.matrixV().transpose();
+  }
+
+  // Translations: ‖t_j − t_i − R_i t_ij‖² τ; the Laplacian, d right-hand sides.
+  trip.clear();
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
+  const Eigen::RowVectorXd t_root = T_root.topRightCorner(d, 1).transpose();
+  for (size_t k = 0; k < g->edges.size(); ++k) {
+    const io::Edge& e = g->edges[k];
+    if (!IsPosePose(e.kind)) continue;
+    const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
+    const Eigen::RowVectorXd c = (R[i] * e.measurement.head(d)).transpose();  // t_j − t_i ≈ c
+    const double w = tau[k];
+    if (unk[i] >= 0) {
+      trip.emplace_back(unk[i], unk[i], w);
+      b.row(unk[i]) -= w * c;
+    } else {
+      b.row(unk[j]) += w * t_root;
+    }
+    if (unk[j] >= 0) {
+      trip.emplace_back(unk[j], unk[j], w);
+      b.row(unk[j]) += w * c;
+    } else {
+      b.row(unk[i]) += w * t_root;
+    }
+    if (unk[i] >= 0 && unk[j] >= 0) {
+      trip.emplace_back(unk[i], unk[j], -w);
+      trip.emplace_back(unk[j], unk[i], -w);
+    }
+  }
+  Eigen::SparseMatrix<double> L(n, n);
+  L.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> lldlt(L);
+  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, "chordal initialisation: singular translation system");
+  const Eigen::MatrixXd t = lldlt.solve(b);
+  std::vector<char> done(g->vertices.size(), 0);
+  for (size_t i = 0; i < g->vertices.size(); ++i) {
+    if (unk[i] < 0) {
+      done[i] = static_cast<int>(i) == root;
+      continue;
+    }
+    Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+    T.topLeftCorner(d, d) = R[i];
+    T.topRightCorner(d, 1) = t.row(unk[i]).transpose();
+    g->vertices[i].estimate = FromMatrix(g->vertices[i].kind, T);
+    g->vertices[i].has_estimate = true;
+    done[i] = 1;
+  }
+  PlaceLandmarks(g, done);
+}
+
+}  // namespace boxplus::slam

@@ -1,0 +1,199 @@
+// Bindings of graph SLAM: g2o/TORO files as pose graphs (boxplus._core.PoseGraph).
+//
+// The file is read and the problem built in C++ (no per-edge Python call).
+// Poses: SE2 ambient [x, y, θ]; SE3 ambient [px, py, pz, qx, qy, qz, qw],
+// tangent [δp, δθ] (translation first). Information matrices are in the
+// order of each edge's error (SE3: [translation, rotation]).
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include "bindings.h"
+#include "boxplus/io/g2o.h"
+#include "boxplus/problem.h"
+#include "boxplus/slam/initialization.h"
+#include "boxplus/slam/pose_graph.h"
+
+namespace py = pybind11;
+
+namespace boxplus::python {
+namespace {
+
+using slam::PoseGraph;
+
+const char* KindName(io::VertexKind k) {
+  switch (k) {
+    case io::VertexKind::kSE2: return "SE2";
+    case io::VertexKind::kSE3: return "SE3";
+    case io::VertexKind::kPoint2: return "XY";
+    case io::VertexKind::kPoint3: return "XYZ";
+  }
+  return "?";
+}
+
+io::VertexKind ParseVertexKind(const std::string& s) {
+  if (s == "SE2") return io::VertexKind::kSE2;
+  if (s == "SE3") return io::VertexKind::kSE3;
+  if (s == "XY") return io::VertexKind::kPoint2;
+  if (s == "XYZ") return io::VertexKind::kPoint3;
+  throw py::value_error("unknown vertex kind '" + s + "' (SE2, SE3, XY or XYZ)");
+}
+
+io::EdgeKind ParseEdgeKind(const std::string& s) {
+  if (s == "SE2") return io::EdgeKind::kSE2;
+  if (s == "SE3") return io::EdgeKind::kSE3;
+  if (s == "SE2_XY") return io::EdgeKind::kSE2Point2;
+  if (s == "SE3_XYZ") return io::EdgeKind::kSE3Point3;
+  if (s == "SE2_BEARING_RANGE") return io::EdgeKind::kSE2BearingRange;
+  throw py::value_error("unknown edge kind '" + s +
+                        "' (SE2, SE3, SE2_XY, SE3_XYZ or SE2_BEARING_RANGE)");
+}
+
+// Stacks the estimates of the vertices of one kind (rows in file order).
+Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
+  const auto& vs = pg.graph().vertices;
+  int n = 0;
+  for (const auto& v : vs) n += v.kind == kind;
+  const int a = io::AmbientSize(kind);
+  Eigen::MatrixXd out(n, a);
+  int r = 0;
+  for (size_t i = 0; i < vs.size(); ++i) {
+    if (vs[i].kind != kind) continue;
+    const double* x = pg.problem().value(pg.variable(vs[i].id));
+    for (int c = 0; c < a; ++c) out(r, c) = x[c];
+    ++r;
+  }
+  return out;
+}
+
+}  // namespace
+
+void RegisterSlam(py::module_& m) {
+  py::class_<PoseGraph>(m, "PoseGraph", R"doc(
+A pose graph read from a g2o/TORO file, as a boxplus Problem.
+
+Build it with ``boxplus.slam.load_g2o``. ``problem`` is the underlying
+``boxplus.Problem`` (extend it, fix variables, solve it); its lifetime is tied
+to this object.
+)doc")
+      .def_static(
+          "load",
+          [](const std::string& path, const std::string& convention, const std::string& robust,
+             double robust_width, const std::string& init, bool skip_unknown,
+             bool repair_information) {
+            io::ReadOptions ro;
+            ro.skip_unknown_tags = skip_unknown;
+            ro.repair_information = repair_information;
+            io::ReadReport rep;
+            io::Graph g;
+            slam::PoseGraphOptions po;
+            po.convention = ParsePoseErrorConvention(convention);
+            po.robust = robust;
+            po.robust_width = robust_width;
+            const slam::InitMethod im = slam::ParseInitMethod(init);
+            {
+              py::gil_scoped_release release;
+              g = io::ReadG2o(path, ro, &rep);
+              slam::Initialize(&g, im);
+            }
+            py::dict report;
+            report["lines"] = rep.lines;
+            report["unknown_skipped"] = rep.unknown_skipped;
+            report["unknown_tags"] = rep.unknown_tags;
+            report["repaired_information"] = rep.repaired_information;
+            report["repaired_lines"] = rep.repaired_lines;
+            report["warnings"] = rep.Warnings(path);
+            report["estimates_from_file"] = g.estimates_from_file;
+            auto pg = std::make_unique<PoseGraph>(std::move(g), po);
+            return py::make_tuple(std::move(pg), report);
+          },
+          py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
+          py::arg("robust_width") = 1.0, py::arg("init") = "file",
+          py::arg("skip_unknown") = false, py::arg("repair_information") = false,
+          "Reads a file and builds the problem; returns (PoseGraph, report dict).")
+      .def_property_readonly("problem", &PoseGraph::problem,
+                             py::return_value_policy::reference_internal,
+                             "The boxplus.Problem (owned by this graph).")
+      .def_property_readonly("dimension", [](PoseGraph& pg) { return pg.graph().dimension; })
+      .def_property_readonly("num_edges",
+                             [](PoseGraph& pg) { return static_cast<int>(pg.graph().edges.size()); })
+      .def_property_readonly("vertex_ids", &PoseGraph::vertex_ids)
+      .def_property_readonly("gauge_vertex", &PoseGraph::gauge_vertex)
+      .def_property_readonly("convention",
+                             [](PoseGraph& pg) { return std::string(ToString(pg.options().convention)); })
+      .def("variable", &PoseGraph::variable, py::arg("vertex_id"),
+           "Variable id (in ``problem``) of a vertex id.")
+      .def(
+          "vertex_kind",
+          [](PoseGraph& pg, int id) {
+            return std::string(KindName(pg.graph().vertices[pg.graph().VertexIndex(id)].kind));
+          },
+          py::arg("vertex_id"))
+      .def("fix", &PoseGraph::Fix, py::arg("vertex_id"), py::arg("fixed") = true)
+      .def(
+          "add_vertex",
+          [](PoseGraph& pg, int id, const std::string& kind, const Eigen::VectorXd& estimate) {
+            io::Vertex v;
+            v.id = id;
+            v.kind = ParseVertexKind(kind);
+            v.estimate = estimate;
+            if (v.kind == io::VertexKind::kSE3 && estimate.size() == 7) {
+              const double n = estimate.tail<4>().norm();
+              if (!(n > 1e-12)) throw py::value_error("add_vertex: zero quaternion");
+              v.estimate.tail<4>() /= n;
+            }
+            return pg.AddVertex(v);
+          },
+          py::arg("vertex_id"), py::arg("kind"), py::arg("estimate"),
+          "Adds a vertex ('SE2', 'SE3', 'XY', 'XYZ'); returns its variable id.")
+      .def(
+          "add_edge",
+          [](PoseGraph& pg, const std::string& kind, int from, int to,
+             const Eigen::VectorXd& measurement, const Eigen::MatrixXd& information) {
+            io::Edge e;
+            e.kind = ParseEdgeKind(kind);
+            e.from = from;
+            e.to = to;
+            e.measurement = measurement;
+            e.information = information;
+            return pg.AddEdge(e);
+          },
+          py::arg("kind"), py::arg("from_id"), py::arg("to_id"), py::arg("measurement"),
+          py::arg("information"), R"doc(
+Adds an edge to the graph (saved with it) and the problem; returns the
+measurement id. kind: 'SE2', 'SE3' (measurement [t, qx, qy, qz, qw]), 'SE2_XY',
+'SE3_XYZ', 'SE2_BEARING_RANGE' ([bearing, range]). information: the full
+symmetric information matrix in the error's order.
+)doc")
+      .def(
+          "chi2",
+          [](const PoseGraph& pg, const std::string& convention) {
+            return convention.empty() ? pg.Chi2() : pg.Chi2(ParsePoseErrorConvention(convention));
+          },
+          py::arg("convention") = "",
+          "Σ eᵀΩe over the graph's edges at the current values ('g2o' or 'log'; "
+          "default: the graph's convention).")
+      .def("poses",
+           [](PoseGraph& pg) {
+             return Stack(pg, pg.graph().dimension == 3 ? io::VertexKind::kSE3
+                                                       : io::VertexKind::kSE2);
+           },
+           "Current pose estimates, one ambient row per pose vertex (file order).")
+      .def("landmarks",
+           [](PoseGraph& pg) {
+             return Stack(pg, pg.graph().dimension == 3 ? io::VertexKind::kPoint3
+                                                       : io::VertexKind::kPoint2);
+           },
+           "Current landmark positions, one row per point vertex (file order).")
+      .def("write_back", &PoseGraph::WriteBack)
+      .def("save", &PoseGraph::Save, py::arg("path"),
+           "Writes the graph with the current values (file's ids, order and tags).")
+      .def(
+          "to_string",
+          [](PoseGraph& pg) {
+            pg.WriteBack();
+            return io::FormatG2o(pg.graph());
+          },
+          "The file that save() would write.");
+}
+
+}  // namespace boxplus::python

@@ -1,0 +1,176 @@
+// Tests of the g2o/TORO reader and writer: every tag, strict errors with the
+// file and line, explicit repair and skip switches, writing round trips.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "boxplus/errors.h"
+#include "boxplus/io/g2o.h"
+
+namespace boxplus::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::string kData = std::string(BOXPLUS_SOURCE_DIR) + "/tests/data/";
+
+// The message of the ParseError thrown by parsing `text`, or "" if none.
+std::string ParseErrorOf(const std::string& text, ReadOptions o = {}) {
+  try {
+    ParseG2o(text, "test.g2o", o);
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kTwo = "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n";
+
+TEST(G2oRead, AllTagsOfA3DFile) {
+  const std::string text =
+      "VERTEX_SE3:QUAT 0 0 0 0 0 0 0 1\n"
+      "VERTEX_SE3:QUAT 1 1 0 0 0 0 0 2\n"  // normalised when read
+      "VERTEX_TRACKXYZ 5 1 2 3\n"
+      "PARAMS_SE3OFFSET 0 0 0 0 0 0 0 1\n"
+      "EDGE_SE3:QUAT 0 1 1 0 0 0 0 0 1 1 0 0 0 0 0 1 0 0 0 0 1 0 0 0 1 0 0 1 0 1\n"
+      "EDGE_SE3_TRACKXYZ 1 5 0 0 2 3 4 0 0 4 0 4\n"
+      "FIX 0\n";
+  Graph g = ParseG2o(text, "t.g2o");
+  ASSERT_EQ(g.vertices.size(), 3u);
+  ASSERT_EQ(g.edges.size(), 2u);
+  EXPECT_EQ(g.dimension, 3);
+  EXPECT_DOUBLE_EQ(g.vertices[1].estimate[6], 1.0);
+  EXPECT_EQ(g.edges[1].kind, EdgeKind::kSE3Point3);
+  EXPECT_DOUBLE_EQ(g.edges[1].information(2, 2), 4.0);
+  EXPECT_EQ(g.FixedIds(), std::vector<int>{0});
+}
+
+TEST(G2oRead, UpperTriangleFillsTheSymmetricMatrix) {
+  Graph g = ParseG2o(std::string(kTwo) + "EDGE_SE2 0 1 1 0 0 50 2 3 60 4 70\n", "t");
+  Eigen::Matrix3d expected;
+  expected << 50, 2, 3, 2, 60, 4, 3, 4, 70;
+  EXPECT_TRUE((g.edges[0].information - expected).norm() == 0.0);
+}
+
+TEST(G2oRead, ToroEdge2InformationOrder) {
+  // TORO: I11 I12 I22 I33 I13 I23.
+  Graph g = ParseG2o("VERTEX2 0 0 0 0\nVERTEX2 1 1 0 0\nEDGE2 0 1 1 0 0 10 1 20 30 2 3\n", "t");
+  const Eigen::MatrixXd& I = g.edges[0].information;
+  EXPECT_EQ(I(0, 0), 10);
+  EXPECT_EQ(I(0, 1), 1);
+  EXPECT_EQ(I(1, 1), 20);
+  EXPECT_EQ(I(2, 2), 30);
+  EXPECT_EQ(I(0, 2), 2);
+  EXPECT_EQ(I(1, 2), 3);
+  // Written back in TORO order.
+  EXPECT_THAT(FormatG2o(g), HasSubstr("EDGE2 0 1 1 0 0 10 1 20 30 2 3\n"));
+}
+
+TEST(G2oRead, Toro3DEulerAngles) {
+  Graph g = ParseG2o("VERTEX3 0 0 0 0 0 0 0\nVERTEX3 1 1 2 3 0 0 1.5707963267948966\n", "t");
+  const Eigen::VectorXd& x = g.vertices[1].estimate;
+  EXPECT_NEAR(x[5], std::sqrt(0.5), 1e-12);  // qz of a yaw of 90°
+  EXPECT_NEAR(x[6], std::sqrt(0.5), 1e-12);
+  const Graph back = ParseG2o(FormatG2o(g), "t2");
+  EXPECT_LT((back.vertices[1].estimate - x).norm(), 1e-15);
+}
+
+TEST(G2oErrors, NameTheFileAndLine) {
+  EXPECT_EQ(ParseErrorOf(std::string(kTwo) + "FOO 1 2\n"),
+            "test.g2o:3: unknown tag 'FOO' (skip unknown tags explicitly to ignore it)");
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0\n"),
+              HasSubstr("test.g2o:3: EDGE_SE2: too few numbers (10, expected 11"));
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1 7\n"),
+              HasSubstr("test.g2o:3: EDGE_SE2: too many numbers"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 0 abc 0\n"),
+              HasSubstr("test.g2o:1: field 4 ('abc') is not a finite number"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0.5 0 0 0\n"), HasSubstr("test.g2o:1: field 2"));
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "\n# c\nEDGE_SE2 0 7 1 0 0 1 0 0 1 0 1\n"),
+              HasSubstr("test.g2o:5: edge to a missing vertex 7"));
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "EDGE_SE2 0 1 1 0 0 1 2 0 1 0 1\n"),
+              HasSubstr("test.g2o:3: EDGE_SE2: information matrix is not positive definite"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE3:QUAT 0 0 0 0 0 0 0 0\n"),
+              HasSubstr("test.g2o:1: VERTEX_SE3:QUAT: quaternion has zero norm"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 0 0 0 0\n"),
+              HasSubstr("test.g2o:2: vertex id 0 appears twice (first at line 1)"));
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "FIX 3\n"),
+              HasSubstr("test.g2o:3: FIX of a missing vertex 3"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 0 0 inf\n"), HasSubstr("is not a finite number"));
+}
+
+TEST(G2oErrors, FilesOnDiskToo) {
+  try {
+    ReadG2o(kData + "bad_unknown_tag.g2o");
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_THAT(e.file(), HasSubstr("bad_unknown_tag.g2o"));
+  }
+  EXPECT_THROW(ReadG2o(kData + "does_not_exist.g2o"), Error);
+}
+
+TEST(G2oOptions, SkipUnknownTagsCountsThem) {
+  ReadOptions o;
+  o.skip_unknown_tags = true;
+  ReadReport rep;
+  Graph g = ReadG2o(kData + "bad_unknown_tag.g2o", o, &rep);
+  EXPECT_EQ(g.edges.size(), 1u);
+  EXPECT_EQ(rep.unknown_skipped, 1);
+  EXPECT_EQ(rep.unknown_tags.at("EDGE_SE2_FOO"), 1);
+  EXPECT_THAT(rep.Warnings("f"), HasSubstr("skipped 1 line(s) with unknown tags (EDGE_SE2_FOO ×1)"));
+}
+
+TEST(G2oOptions, RepairInformationCountsAndFixes) {
+  ReadOptions o;
+  o.repair_information = true;
+  ReadReport rep;
+  Graph g = ReadG2o(kData + "bad_indefinite_info.g2o", o, &rep);
+  EXPECT_EQ(rep.repaired_information, 1);
+  EXPECT_EQ(rep.repaired_lines, std::vector<int>{4});
+  EXPECT_TRUE(IsPositiveDefinite(g.edges[1].information));
+  EXPECT_TRUE(g.edges[0].information.isIdentity());  // PD ones untouched
+  EXPECT_THAT(rep.Warnings("f"), HasSubstr("replaced 1 information matrix"));
+}
+
+TEST(G2oOptions, NearestPositiveDefiniteKeepsPDMatricesAndClampsOthers) {
+  Eigen::MatrixXd A(2, 2);
+  A << 2, 0, 0, -1;
+  const Eigen::MatrixXd B = NearestPositiveDefinite(A);
+  EXPECT_NEAR(B(0, 0), 2.0, 1e-12);
+  EXPECT_GT(B(1, 1), 0.0);
+  EXPECT_LT(B(1, 1), 1e-8);
+  EXPECT_THROW(NearestPositiveDefinite(Eigen::MatrixXd::Zero(2, 2)), Error);
+}
+
+TEST(G2oWrite, RoundTripKeepsIdsOrderAndValues) {
+  for (const char* f : {"tinyGrid3D.g2o", "landmarks2d.g2o", "CSAIL.g2o"}) {
+    SCOPED_TRACE(f);
+    const Graph a = ReadG2o(kData + f);
+    const Graph b = ParseG2o(FormatG2o(a), "round-trip");
+    ASSERT_EQ(a.vertices.size(), b.vertices.size());
+    ASSERT_EQ(a.edges.size(), b.edges.size());
+    ASSERT_EQ(a.order.size(), b.order.size());
+    for (size_t i = 0; i < a.vertices.size(); ++i) {
+      EXPECT_EQ(a.vertices[i].id, b.vertices[i].id);
+      // Quaternions are normalised again when read: equal up to rounding.
+      EXPECT_TRUE(a.vertices[i].estimate.isApprox(b.vertices[i].estimate, 1e-15));
+    }
+    for (size_t i = 0; i < a.edges.size(); ++i) {
+      EXPECT_EQ(a.edges[i].from, b.edges[i].from);
+      EXPECT_TRUE(a.edges[i].measurement.isApprox(b.edges[i].measurement, 1e-15));
+      EXPECT_EQ(a.edges[i].information, b.edges[i].information);
+    }
+  }
+}
+
+TEST(G2oRead, FileWithoutVerticesCreatesThem) {
+  ReadReport rep;
+  const Graph g = ReadG2o(kData + "CSAIL.g2o", {}, &rep);
+  EXPECT_FALSE(g.estimates_from_file);
+  EXPECT_EQ(g.vertices.size(), 1045u);
+  EXPECT_EQ(g.edges.size(), 1172u);
+  EXPECT_FALSE(g.vertices[3].has_estimate);
+  EXPECT_EQ(g.order.front().type, Graph::RecordType::kVertex);
+}
+
+}  // namespace
+}  // namespace boxplus::io

@@ -1,0 +1,251 @@
+// Tests of the SLAM factors (analytic Jacobians against autodiff, the log
+// convention against the SE(3) exponential), the pose graph and the
+// initialisations.
+#include <random>
+
+#include <ceres/cost_function.h>
+#include <gtest/gtest.h>
+
+#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose_point.h"
+#include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/manifolds.h"
+#include "boxplus/slam/initialization.h"
+#include "boxplus/slam/pose_graph.h"
+
+namespace boxplus {
+namespace {
+
+const std::string kData = std::string(BOXPLUS_SOURCE_DIR) + "/tests/data/";
+
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Residual and tangent-space Jacobians (ambient Jacobian × PlusJacobian).
+void Evaluate(const ceres::CostFunction& f, const std::vector<const double*>& x,
+              const std::vector<const ceres::Manifold*>& m, Eigen::VectorXd* r,
+              std::vector<RowMat>* J) {
+  const int n = f.num_residuals();
+  r->resize(n);
+  std::vector<RowMat> Ja;
+  std::vector<double*> ptrs;
+  for (size_t k = 0; k < x.size(); ++k) {
+    Ja.emplace_back(n, f.parameter_block_sizes()[k]);
+  }
+  for (auto& j : Ja) ptrs.push_back(j.data());
+  ASSERT_TRUE(f.Evaluate(x.data(), r->data(), ptrs.data()));
+  J->clear();
+  for (size_t k = 0; k < x.size(); ++k) {
+    RowMat P(m[k]->AmbientSize(), m[k]->TangentSize());
+    m[k]->PlusJacobian(x[k], P.data());
+    J->push_back(Ja[k] * P);
+  }
+}
+
+Eigen::Matrix<double, 7, 1> RandomSE3(std::mt19937& rng, double rot_scale = 3.0) {
+  std::normal_distribution<double> g(0, 1);
+  Eigen::Vector3d w(g(rng), g(rng), g(rng));
+  w = w.normalized() * std::uniform_real_distribution<double>(0, rot_scale)(rng);
+  Eigen::Matrix<double, 7, 1> x;
+  x << 3 * g(rng), 3 * g(rng), 3 * g(rng), SO3::Exp(w).ambient();
+  return x;
+}
+
+Eigen::Matrix<double, 6, 6> RandomInfo(std::mt19937& rng, int n = 6) {
+  std::normal_distribution<double> g(0, 1);
+  Eigen::MatrixXd A(n, n);
+  for (int i = 0; i < n * n; ++i) A.data()[i] = g(rng);
+  Eigen::MatrixXd I = A * A.transpose() + Eigen::MatrixXd::Identity(n, n);
+  Eigen::Matrix<double, 6, 6> out = Eigen::Matrix<double, 6, 6>::Identity();
+  out.topLeftCorner(n, n) = I;
+  return out;
+}
+
+TEST(RelativePose3D, AnalyticJacobiansMatchAutodiff) {
+  std::mt19937 rng(3);
+  const auto se3 = MakeManifold("SE3");
+  for (int trial = 0; trial < 200; ++trial) {
+    const auto xi = RandomSE3(rng), xj = RandomSE3(rng);
+    // Measurements near the truth and far from it (w of q_Δ near 0 included).
+    const auto z = trial % 2 ? RandomSE3(rng) : RandomSE3(rng, 0.1);
+    const auto info = RandomInfo(rng);
+    auto analytic = MakeRelativePose3D(z, info, PoseErrorConvention::kG2o);
+    auto autodiff = MakeRelativePose3DAutoDiff(z, info, PoseErrorConvention::kG2o);
+    Eigen::VectorXd ra, rb;
+    std::vector<RowMat> Ja, Jb;
+    Evaluate(*analytic, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &ra, &Ja);
+    Evaluate(*autodiff, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &rb, &Jb);
+    EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm()));
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_LT((Ja[k] - Jb[k]).norm(), 1e-9 * (1 + Jb[k].norm())) << "trial " << trial;
+    }
+  }
+}
+
+TEST(RelativePose2D, AnalyticJacobiansMatchAutodiff) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.14, 3.14);
+  const auto se2 = MakeManifold("SE2");
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d xi(3 * u(rng), 3 * u(rng), u(rng)), xj(3 * u(rng), 3 * u(rng), u(rng)),
+        z(u(rng), u(rng), u(rng));
+    const Eigen::Matrix3d info = RandomInfo(rng, 3).topLeftCorner<3, 3>();
+    Eigen::VectorXd ra, rb;
+    std::vector<RowMat> Ja, Jb;
+    Evaluate(*MakeRelativePose2D(z, info), {xi.data(), xj.data()}, {se2.get(), se2.get()}, &ra,
+             &Ja);
+    Evaluate(*MakeRelativePose2DAutoDiff(z, info), {xi.data(), xj.data()},
+             {se2.get(), se2.get()}, &rb, &Jb);
+    EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm()));
+    for (int k = 0; k < 2; ++k) EXPECT_LT((Ja[k] - Jb[k]).norm(), 1e-9 * (1 + Jb[k].norm()));
+  }
+}
+
+// exp of SE(3) with tangent (u, ω): R = exp(ω), t = V(ω) u.
+Eigen::Matrix<double, 7, 1> ExpSE3(const Eigen::Vector3d& u, const Eigen::Vector3d& w) {
+  const double th = w.norm();
+  Eigen::Matrix3d W;
+  W << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  Eigen::Matrix3d V = Eigen::Matrix3d::Identity();
+  if (th > 1e-12) {
+    V += (1 - std::cos(th)) / (th * th) * W + (th - std::sin(th)) / (th * th * th) * W * W;
+  }
+  Eigen::Matrix<double, 7, 1> x;
+  x << V * u, SO3::Exp(w).ambient();
+  return x;
+}
+
+TEST(RelativePose3D, LogConventionInvertsTheSE3Exponential) {
+  // With x_i = identity and z = identity, Δ = x_j: e must give back (u, ω).
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0, 1);
+  const Eigen::Matrix<double, 7, 1> id = SE3().ambient();
+  for (double scale : {1e-9, 1e-4, 0.3, 1.5, 3.0}) {
+    const Eigen::Vector3d u(g(rng), g(rng), g(rng));
+    Eigen::Vector3d w(g(rng), g(rng), g(rng));
+    w = w.normalized() * scale;
+    const auto xj = ExpSE3(u, w);
+    double e[6];
+    RelativePose3DError(id.data(), xj.data(), id.data(), PoseErrorConvention::kLog, e);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(e[k], u[k], 1e-9) << scale;
+      EXPECT_NEAR(e[3 + k], w[k], 1e-12) << scale;
+    }
+  }
+}
+
+TEST(RelativePose2D, LogConventionInvertsTheSE2Exponential) {
+  for (double th : {1e-9, 1e-3, 0.5, 3.0, -2.0}) {
+    const Eigen::Vector2d u(0.7, -1.3);
+    // V(θ) = [[s, −(1−c)], [1−c, s]] / θ
+    const double s = std::sin(th), c = std::cos(th);
+    const Eigen::Vector2d t =
+        std::abs(th) < 1e-8 ? u
+                            : Eigen::Vector2d((s * u.x() - (1 - c) * u.y()) / th,
+                                              ((1 - c) * u.x() + s * u.y()) / th);
+    const double xi[3] = {0, 0, 0}, xj[3] = {t.x(), t.y(), th}, z[3] = {0, 0, 0};
+    double e[3];
+    RelativePose2DError(xi, xj, z, e, PoseErrorConvention::kLog);
+    EXPECT_NEAR(e[0], u.x(), 1e-9);
+    EXPECT_NEAR(e[1], u.y(), 1e-9);
+    EXPECT_NEAR(e[2], th, 1e-12);
+  }
+}
+
+TEST(LandmarkFactors, ZeroAtTheTruth) {
+  const Eigen::Vector3d pose(1, 2, 0.5);
+  const Eigen::Vector2d l(3, 4);
+  const Eigen::Rotation2Dd R(0.5);
+  const Eigen::Vector2d local = R.inverse() * (l - pose.head<2>());
+  double e[2];
+  PosePoint2DError(pose.data(), l.data(), local.data(), e);
+  EXPECT_NEAR(Eigen::Vector2d(e[0], e[1]).norm(), 0, 1e-12);
+  const double br[2] = {std::atan2(local.y(), local.x()), local.norm()};
+  ASSERT_TRUE(BearingRange2DError(pose.data(), l.data(), br, e));
+  EXPECT_NEAR(Eigen::Vector2d(e[0], e[1]).norm(), 0, 1e-12);
+  const double on_pose[2] = {1, 2};
+  EXPECT_FALSE(BearingRange2DError(pose.data(), on_pose, br, e));
+}
+
+// Reference optima from the peers (g2opy 2.3.0 and GTSAM 4.3.0 from the
+// file's estimate, scored by boxplus.slam.reference in numpy).
+TEST(PoseGraph, TinyGrid3DReachesThePeersOptimum) {
+  for (auto [conv, best] : {std::pair{PoseErrorConvention::kG2o, 6.727881617021661},
+                            std::pair{PoseErrorConvention::kLog, 18.62781886709005}}) {
+    slam::PoseGraphOptions o;
+    o.convention = conv;
+    slam::PoseGraph pg(io::ReadG2o(kData + "tinyGrid3D.g2o"), o);
+    EXPECT_EQ(pg.gauge_vertex(), 0);
+    EXPECT_TRUE(pg.problem().IsFixed(pg.variable(0)));
+    const SolveSummary s = pg.Solve();
+    EXPECT_TRUE(s.usable);
+    EXPECT_LE(pg.Chi2(), best * (1 + 1e-6));
+    EXPECT_NEAR(2 * s.final_cost, pg.Chi2(), 1e-9 * pg.Chi2());
+  }
+}
+
+TEST(PoseGraph, LandmarksAndFixLines) {
+  slam::PoseGraph pg(io::ReadG2o(kData + "landmarks2d.g2o"));
+  EXPECT_EQ(pg.gauge_vertex(), 0);
+  const SolveSummary s = pg.Solve();
+  EXPECT_TRUE(s.usable);
+  EXPECT_LT(pg.Chi2(), 1e-2);
+  EXPECT_EQ(pg.problem().value(pg.variable(0))[0], 0.0);  // FIX 0 held
+}
+
+TEST(PoseGraph, RobustKernelsByName) {
+  for (const char* k : {"huber", "cauchy", "tukey", "arctan", "softl1"}) {
+    EXPECT_NE(slam::MakeRobustLoss(k, 1.0), nullptr);
+  }
+  EXPECT_EQ(slam::MakeRobustLoss("none", 1.0), nullptr);
+  EXPECT_THROW(slam::MakeRobustLoss("huber", 0.0), Error);
+  EXPECT_THROW(slam::MakeRobustLoss("bogus", 1.0), Error);
+}
+
+// A noise-free 3D graph (a ring with chords): both initialisations must give
+// back the truth exactly, whatever the file's estimate.
+TEST(Initialization, RecoverANoiseFreeGraph) {
+  std::mt19937 rng(1);
+  io::Graph g;
+  std::vector<SE3> truth;
+  const int n = 30;
+  for (int i = 0; i < n; ++i) {
+    truth.push_back(SE3::FromAmbient(RandomSE3(rng).data()));
+    io::Vertex v;
+    v.id = 100 + i;
+    v.kind = io::VertexKind::kSE3;
+    v.estimate = (i == 0 ? truth[0] : SE3()).ambient();
+    g.AddVertex(v);
+  }
+  auto add = [&](int i, int j) {
+    io::Edge e;
+    e.kind = io::EdgeKind::kSE3;
+    e.from = 100 + i;
+    e.to = 100 + j;
+    e.measurement = (truth[i].inverse() * truth[j]).ambient();
+    e.information = Eigen::MatrixXd::Identity(6, 6);
+    g.AddEdge(e);
+  };
+  for (int i = 0; i + 1 < n; ++i) add(i, i + 1);
+  for (int i = 0; i + 5 < n; i += 3) add(i + 5, i);
+  for (auto method : {slam::InitMethod::kSpanningTree, slam::InitMethod::kChordal}) {
+    io::Graph h = g;
+    slam::Initialize(&h, method);
+    for (int i = 0; i < n; ++i) {
+      const SE3 x = SE3::FromAmbient(h.vertices[i].estimate.data());
+      EXPECT_LT(x.boxminus(truth[i]).norm(), 1e-8) << i;
+    }
+  }
+}
+
+TEST(Initialization, ChordalOnARealFileLowersTheObjective) {
+  io::Graph g = io::ReadG2o(kData + "smallGrid3D.g2o");
+  slam::PoseGraph before(g);
+  slam::Initialize(&g, slam::InitMethod::kChordal);
+  slam::PoseGraph after(g);
+  EXPECT_LT(after.Chi2(), 0.1 * before.Chi2());
+  EXPECT_THROW(slam::ParseInitMethod("magic"), Error);
+}
+
+}  // namespace
+}  // namespace boxplus
