@@ -332,6 +332,42 @@ double Problem::Cost() {
   return cost;
 }
 
+JacobianEvaluation Problem::EvaluateJacobian() {
+  JacobianEvaluation out;
+  ceres::Problem::EvaluateOptions eo;
+  int cols = 0;
+  for (int v = 0; v < num_variables(); ++v) {
+    if (vars_[v]->fixed) continue;
+    out.variables.push_back(v);
+    out.column_offsets.push_back(cols);
+    cols += vars_[v]->manifold->TangentSize();
+    eo.parameter_blocks.push_back(vars_[v]->data.get());
+  }
+  int rows = 0;
+  for (const Measurement& m : meas_) {
+    out.row_offsets.push_back(rows);
+    rows += m.cost->num_residuals();
+    eo.residual_blocks.push_back(m.block);
+  }
+  out.residuals.setZero(rows);
+  out.jacobian.setZero(rows, cols);
+  if (rows == 0 || cols == 0) return out;
+  double cost = 0.0;
+  std::vector<double> residuals;
+  ceres::CRSMatrix crs;
+  BOXPLUS_CHECK(problem_->Evaluate(eo, &cost, &residuals, nullptr, &crs),
+                "evaluating the Jacobian failed");
+  BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols,
+                "Jacobian has an unexpected shape");
+  out.residuals = Eigen::Map<Eigen::VectorXd>(residuals.data(), rows);
+  for (int r = 0; r < rows; ++r) {
+    for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) {
+      out.jacobian(r, crs.cols[k]) = crs.values[k];
+    }
+  }
+  return out;
+}
+
 Eigen::MatrixXd Problem::Covariance(int id) { return JointCovariance({id}); }
 
 Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {

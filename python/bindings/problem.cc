@@ -196,7 +196,22 @@ callback : callable, optional
            py::arg("measurement_id"), "Whitened residual of one measurement.")
       .def("covariance", &Problem::Covariance, py::arg("id"),
            "Marginal covariance in the variable's tangent space.")
-      .def("joint_covariance", &Problem::JointCovariance, py::arg("ids"));
+      .def("joint_covariance", &Problem::JointCovariance, py::arg("ids"))
+      .def(
+          "evaluate_jacobian",
+          [](Problem& p) {
+            JacobianEvaluation e = RaisingPython([&] { return p.EvaluateJacobian(); });
+            py::dict d;
+            d["residuals"] = e.residuals;
+            d["jacobian"] = e.jacobian;
+            d["variables"] = e.variables;
+            d["column_offsets"] = e.column_offsets;
+            d["row_offsets"] = e.row_offsets;
+            return d;
+          },
+          "Whitened residuals and their dense Jacobian in the tangent spaces of the free "
+          "variables: a dict with residuals (m,), jacobian (m, n), variables (free ids), "
+          "column_offsets, row_offsets (per measurement).");
 }
 
 }  // namespace boxplus::python

@@ -57,6 +57,17 @@ struct SolverOptions {
   std::function<bool(const IterationInfo&)> on_iteration;
 };
 
+// The whitened residuals and their Jacobian at the current values, in the
+// tangent spaces of the free (not fixed) variables (what the solver sees; with
+// robust losses applied as Ceres applies them).
+struct JacobianEvaluation {
+  Eigen::VectorXd residuals;        // all measurements, in id order
+  Eigen::MatrixXd jacobian;         // rows: residuals; columns: tangent coordinates
+  std::vector<int> variables;       // free variables, in id order, one column block each
+  std::vector<int> column_offsets;  // first column of each of `variables`
+  std::vector<int> row_offsets;     // first row of each measurement
+};
+
 struct SolveSummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
@@ -112,6 +123,10 @@ class Problem {
   Eigen::VectorXd Residual(int measurement_id);
   // ½ Σ ρ(‖r‖²) at the current values.
   double Cost();
+
+  // Dense Jacobian of every residual w.r.t. every free variable (for
+  // diagnostics: rank, conditioning, which parameters are undetermined).
+  JacobianEvaluation EvaluateJacobian();
 
   // Marginal covariance of a variable in its tangent space (after a solve).
   // Throws when the problem does not determine the variable (rank-deficient).

@@ -1,4 +1,17 @@
-"""Camera calibration helpers: closed-form initialisation (Zhang) and models."""
+"""Multi-sensor calibration toolkit.
+
+* :mod:`~boxplus.calib.init` — closed-form initial values (Zhang, PnP, stereo,
+  gravity rotation, hand-eye);
+* :mod:`~boxplus.calib.rig` — cameras as variables, mono and stereo
+  calibration on the C++ board factor, corner detection (OpenCV, optional);
+* :mod:`~boxplus.calib.report` — RMS per group, σ of every parameter, and the
+  parameters the data cannot determine;
+* :mod:`~boxplus.calib.plot` — reprojection errors and the rig in 3-D (PNG).
+
+The factors themselves are methods of :class:`boxplus.OptimizationProblem`
+(``add_board``, ``add_marker``, ``add_dh_marker``, ``add_gravity``,
+``add_relative_pose``, ``add_point``, ``add_disparity``).
+"""
 
 from boxplus.calib.zhang import (
     homography,
@@ -6,5 +19,25 @@ from boxplus.calib.zhang import (
     intrinsics_from_homographies,
     pose_from_homography,
 )
+from boxplus.calib.init import (
+    CAMERA_LABELS,
+    board_pose,
+    camera_matrix,
+    check_views,
+    hand_eye_park,
+    intrinsics_vector,
+    mean_pose,
+    relative_pose_init,
+    robot_world_hand_eye,
+    rotation_between,
+)
+from boxplus.calib.rig import Calibration, add_camera, calibrate_mono, calibrate_stereo, detect_corners
+from boxplus.calib.report import CalibrationReport, report
 
-__all__ = ["homography", "init_camera", "intrinsics_from_homographies", "pose_from_homography"]
+__all__ = [
+    "CAMERA_LABELS", "Calibration", "CalibrationReport", "add_camera", "board_pose",
+    "calibrate_mono", "calibrate_stereo", "camera_matrix", "check_views", "detect_corners",
+    "hand_eye_park", "homography", "init_camera", "intrinsics_from_homographies",
+    "intrinsics_vector", "mean_pose", "pose_from_homography", "relative_pose_init", "report",
+    "robot_world_hand_eye", "rotation_between",
+]

@@ -11,7 +11,8 @@
 // Camera models (normalised coordinates x = X/Z, y = Y/Z, r² = x² + y²):
 //   SimpleRadial  k = [f, cx, cy, k1]          u = f·x·(1+k1 r²) + cx  (MTKM Listing 1)
 //   Pinhole       k = [fx, fy, cx, cy]
-//   Radial2       k = [fx, fy, cx, cy, k1, k2] radial 1 + k1 r² + k2 r⁴
+//   Radial1       k = [fx, fy, cx, cy, k1]     radial 1 + k1 r²  (OpenCV: FIX_K2|FIX_K3|ZERO_TANGENT_DIST)
+//   Radial2       k = [fx, fy, cx, cy, k1, k2] radial 1 + k1 r² + k2 r⁴ (OpenCV: FIX_K3|ZERO_TANGENT_DIST)
 //   OpenCV5       k = [fx, fy, cx, cy, k1, k2, p1, p2, k3]  (OpenCV's default model:
 //                 x' = x·rad + 2p1·xy + p2(r²+2x²), y' = y·rad + p1(r²+2y²) + 2p2·xy,
 //                 rad = 1 + k1 r² + k2 r⁴ + k3 r⁶)
@@ -31,6 +32,8 @@
 namespace boxplus {
 
 namespace camera {
+
+[[noreturn]] void ThrowUnknownCameraModel(const std::string& name);
 
 template <typename T>
 void Distort(const T& x, const T& y, const T& k1, const T& k2, const T& p1, const T& p2,
@@ -62,6 +65,17 @@ struct Pinhole {
   }
 };
 
+struct Radial1 {
+  static constexpr int kSize = 5;
+  static constexpr const char* kName = "radial1";
+  template <typename T>
+  static void Project(const T* k, const T& x, const T& y, T* uv) {
+    const T rad = T(1.0) + k[4] * (x * x + y * y);
+    uv[0] = k[0] * x * rad + k[2];
+    uv[1] = k[1] * y * rad + k[3];
+  }
+};
+
 struct Radial2 {
   static constexpr int kSize = 6;
   static constexpr const char* kName = "radial2";
@@ -86,6 +100,42 @@ struct OpenCV5 {
   }
 };
 
+// Calls f(Model{}) with the model named `name` ("simple_radial", "pinhole",
+// "radial1", "radial2", "opencv5"); throws boxplus::Error for other names.
+template <class F>
+auto WithCameraModel(const std::string& name, F&& f) {
+  if (name == SimpleRadial::kName) return f(SimpleRadial{});
+  if (name == Pinhole::kName) return f(Pinhole{});
+  if (name == Radial1::kName) return f(Radial1{});
+  if (name == Radial2::kName) return f(Radial2{});
+  if (name == OpenCV5::kName) return f(OpenCV5{});
+  ThrowUnknownCameraModel(name);
+  return f(OpenCV5{});  // not reached
+}
+
+// p_in_cam = x2cam.fromlocal(x2world.tolocal(p_in_world)): the chain of every
+// camera factor (poses [p, q(x,y,z,w)], local → parent).
+template <typename T>
+void ChainToCam(const T* x2world, const T* x2cam, const T* p_in_world, T* p_in_cam) {
+  T d[3] = {p_in_world[0] - x2world[0], p_in_world[1] - x2world[1], p_in_world[2] - x2world[2]};
+  T qinv[4], p_in_x[3];
+  QuatConjugate(x2world + 3, qinv);
+  QuatRotatePoint(qinv, d, p_in_x);
+  QuatRotatePoint(x2cam + 3, p_in_x, p_in_cam);
+  for (int i = 0; i < 3; ++i) p_in_cam[i] += x2cam[i];
+}
+
+// r = W (π(k, p_in_cam) − z) for one point (2 residuals).
+template <class Model, typename T>
+void ProjectionResidual(const T* k, const T* p_in_cam, const double* z, const Eigen::Matrix2d& W,
+                        T* residual) {
+  T uv[2];
+  Model::Project(k, p_in_cam[0] / p_in_cam[2], p_in_cam[1] / p_in_cam[2], uv);
+  const T e0 = uv[0] - T(z[0]), e1 = uv[1] - T(z[1]);
+  residual[0] = T(W(0, 0)) * e0 + T(W(0, 1)) * e1;
+  residual[1] = T(W(1, 0)) * e0 + T(W(1, 1)) * e1;
+}
+
 }  // namespace camera
 
 template <class Model>
@@ -97,18 +147,10 @@ class PinholePointFunctor {
 
   template <typename T>
   bool operator()(const T* k, const T* x2world, const T* x2cam, T* residual) const {
-    // p_in_x = R_xwᵀ (p_in_world − t_xw)
-    T d[3] = {T(p_[0]) - x2world[0], T(p_[1]) - x2world[1], T(p_[2]) - x2world[2]};
-    T qinv[4], p_in_x[3], p_in_cam[3];
-    QuatConjugate(x2world + 3, qinv);
-    QuatRotatePoint(qinv, d, p_in_x);
-    QuatRotatePoint(x2cam + 3, p_in_x, p_in_cam);
-    for (int i = 0; i < 3; ++i) p_in_cam[i] += x2cam[i];
-    T uv[2];
-    Model::Project(k, p_in_cam[0] / p_in_cam[2], p_in_cam[1] / p_in_cam[2], uv);
-    const T e0 = uv[0] - T(z_[0]), e1 = uv[1] - T(z_[1]);
-    residual[0] = T(W_(0, 0)) * e0 + T(W_(0, 1)) * e1;
-    residual[1] = T(W_(1, 0)) * e0 + T(W_(1, 1)) * e1;
+    const T p[3] = {T(p_[0]), T(p_[1]), T(p_[2])};
+    T p_in_cam[3];
+    camera::ChainToCam(x2world, x2cam, p, p_in_cam);
+    camera::ProjectionResidual<Model>(k, p_in_cam, z_.data(), W_, residual);
     return true;
   }
 
@@ -126,7 +168,7 @@ class PinholePointFunctor {
 };
 
 // The factor for a camera model chosen at run time by name ("simple_radial",
-// "pinhole", "radial2", "opencv5"); throws boxplus::Error for other names.
+// "pinhole", "radial1", "radial2", "opencv5"); throws boxplus::Error for other names.
 std::shared_ptr<ceres::CostFunction> MakePinholePointFactor(const std::string& model,
                                                             const Eigen::Vector2d& z,
                                                             const Eigen::Matrix2d& sqrt_info,

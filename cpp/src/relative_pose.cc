@@ -1,0 +1,14 @@
+#include "boxplus/factors/relative_pose.h"
+
+#include "boxplus/errors.h"
+
+namespace boxplus {
+
+std::shared_ptr<ceres::CostFunction> MakeRelativePoseFactor(
+    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& W) {
+  BOXPLUS_CHECK(z.allFinite(), "relative pose factor: non-finite z");
+  return std::make_shared<ceres::AutoDiffCostFunction<RelativePoseFunctor, 6, 7, 7>>(
+      new RelativePoseFunctor(z, W));
+}
+
+}  // namespace boxplus

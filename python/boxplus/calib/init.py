@@ -1,0 +1,186 @@
+"""Closed-form initial values for standard rigs: no user guesses a start.
+
+* camera intrinsics and board poses: Zhang's method (:mod:`boxplus.calib.zhang`);
+* a board pose from a calibrated camera (PnP for a planar board via the
+  homography of undistorted normalised points);
+* rigid transforms between sensors that see the same boards (stereo):
+  the chordal mean of the per-view transforms;
+* rotation between two sensors from paired directions (camera–IMU from
+  gravity): Kabsch/Wahba;
+* hand-eye AX = XB (Park & Martin 1994) and robot-world/hand-eye AX = ZB.
+
+Frames: ``a2b`` maps points of frame a into frame b (p_in_b = R p_in_a + t).
+Poses are boxplus SE3 values, tangent order [translation, rotation].
+"""
+
+from __future__ import annotations
+
+from typing import List, Sequence, Tuple
+
+import numpy as np
+
+from boxplus.manifolds import SE3, SO3
+from boxplus.calib.zhang import homography, init_camera, pose_from_homography
+
+__all__ = [
+    "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "init_camera",
+    "board_pose", "mean_pose", "relative_pose_init", "rotation_between", "hand_eye_park",
+    "robot_world_hand_eye",
+]
+
+CAMERA_LABELS = {
+    "simple_radial": ["f", "cx", "cy", "k1"],
+    "pinhole": ["fx", "fy", "cx", "cy"],
+    "radial1": ["fx", "fy", "cx", "cy", "k1"],
+    "radial2": ["fx", "fy", "cx", "cy", "k1", "k2"],
+    "opencv5": ["fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"],
+}
+
+
+def _model(model: str) -> List[str]:
+    try:
+        return CAMERA_LABELS[model]
+    except KeyError:
+        raise ValueError(f"unknown camera model '{model}' (expected one of {sorted(CAMERA_LABELS)})") from None
+
+
+def intrinsics_vector(K: np.ndarray, model: str, dist: Sequence[float] = ()) -> np.ndarray:
+    """The model's intrinsics vector from a 3×3 K and OpenCV-ordered distortion
+    (k1, k2, p1, p2, k3; missing ones are 0)."""
+    labels = _model(model)
+    d = dict(zip(["k1", "k2", "p1", "p2", "k3"], list(dist) + [0.0] * 5))
+    v = {"f": (K[0, 0] + K[1, 1]) / 2, "fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], **d}
+    return np.array([v[n] for n in labels], dtype=float)
+
+
+def camera_matrix(k: np.ndarray, model: str) -> Tuple[np.ndarray, np.ndarray]:
+    """(K 3×3, OpenCV distortion [k1, k2, p1, p2, k3]) from a model's intrinsics vector."""
+    labels = _model(model)
+    v = dict(zip(labels, np.asarray(k, float)))
+    fx, fy = v.get("fx", v.get("f")), v.get("fy", v.get("f"))
+    K = np.array([[fx, 0, v["cx"]], [0, fy, v["cy"]], [0, 0, 1.0]])
+    return K, np.array([v.get(n, 0.0) for n in ["k1", "k2", "p1", "p2", "k3"]])
+
+
+def check_views(
+    image_points: Sequence[np.ndarray], object_points: np.ndarray, image_size: Tuple[int, int],
+    camera: str = "camera", min_views: int = 3,
+) -> List[np.ndarray]:
+    """Validates the detections of one camera; returns them as float arrays.
+
+    Raises ValueError naming the camera and the view for: too few views, a view
+    that is missing (None: the board was not detected), of the wrong shape, with
+    non-finite points or points outside the image, or a bad image size.
+    """
+    size = np.asarray(image_size)
+    if size.shape != (2,) or np.any(size <= 0):
+        raise ValueError(f"{camera}: image_size must be (width, height) > 0, got {image_size}")
+    obj = np.asarray(object_points, float)
+    out = []
+    for i, p in enumerate(image_points):
+        if p is None:
+            raise ValueError(f"{camera}, view {i}: the board was not detected (drop the view)")
+        p = np.asarray(p, float)
+        if p.ndim != 2 or p.shape[1] != 2 or len(p) < 4:
+            raise ValueError(f"{camera}, view {i}: image points must be (N >= 4, 2), got {p.shape}")
+        if len(p) != len(obj):
+            raise ValueError(f"{camera}, view {i}: {len(p)} image points for {len(obj)} board points")
+        if not np.all(np.isfinite(p)):
+            raise ValueError(f"{camera}, view {i}: non-finite image points")
+        if np.any(p < -0.5) or np.any(p > size - 0.5):
+            raise ValueError(f"{camera}, view {i}: points outside the {size[0]}×{size[1]} image "
+                             "(wrong image_size, or images of different sizes for one camera?)")
+        out.append(p)
+    if len(out) < min_views:
+        raise ValueError(f"{camera}: {len(out)} views, at least {min_views} are needed to calibrate "
+                         "a camera from a planar board")
+    return out
+
+
+def _undistort_normalised(p: np.ndarray, K: np.ndarray, dist: np.ndarray, iters: int = 20) -> np.ndarray:
+    x = (p - K[:2, 2]) / np.diag(K)[:2]
+    k1, k2, p1, p2, k3 = dist
+    u = x.copy()
+    for _ in range(iters):  # fixed-point inversion of the distortion
+        r2 = np.sum(u**2, axis=1)
+        rad = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        dx = 2 * p1 * u[:, 0] * u[:, 1] + p2 * (r2 + 2 * u[:, 0] ** 2)
+        dy = p1 * (r2 + 2 * u[:, 1] ** 2) + 2 * p2 * u[:, 0] * u[:, 1]
+        u = (x - np.column_stack([dx, dy])) / rad[:, None]
+    return u
+
+
+def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
+               dist: Sequence[float] = (0, 0, 0, 0, 0)) -> SE3:
+    """board2cam of a planar board (z = 0) seen by a calibrated camera (PnP by the
+    homography of undistorted normalised points, Zhang eq. 12)."""
+    obj = np.asarray(object_points, float)
+    u = _undistort_normalised(np.asarray(image_points, float), K, np.asarray(dist, float))
+    return pose_from_homography(np.eye(3), homography(obj[:, :2], u))
+
+
+def mean_pose(poses: Sequence[SE3]) -> SE3:
+    """Chordal L2 mean of poses (mean translation, rotation projected to SO(3))."""
+    if not poses:
+        raise ValueError("mean_pose: no poses")
+    M = sum(p.rot.R for p in poses)
+    U, _, Vt = np.linalg.svd(M)
+    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    return SE3(SO3(R), np.mean([p.pos for p in poses], axis=0))
+
+
+def relative_pose_init(board2a: Sequence[SE3], board2b: Sequence[SE3]) -> SE3:
+    """a2b from views of the same boards by sensors a and b (stereo): the mean of
+    board2b_i ∘ board2a_i⁻¹."""
+    if len(board2a) != len(board2b) or not board2a:
+        raise ValueError("relative_pose_init: need the same (≥ 1) number of views from both sensors")
+    return mean_pose([b * a.inverse() for a, b in zip(board2a, board2b)])
+
+
+def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """R minimising Σ‖b_i − R a_i‖² (Kabsch / Wahba); a, b (N, 3). Raises when the
+    directions are all parallel (the rotation about them is then undetermined)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    an = a / np.linalg.norm(a, axis=1, keepdims=True)
+    if np.linalg.svd(an - an.mean(axis=0), compute_uv=False)[0] < 1e-6:
+        raise ValueError("rotation_between: all directions are parallel; the rotation about them "
+                         "is undetermined (e.g. an IMU's yaw from gravity with one board orientation)")
+    U, _, Vt = np.linalg.svd(b.T @ a)
+    return U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+
+
+def hand_eye_park(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> SE3:
+    """cam2gripper X from A X = X B (Park & Martin 1994), eye-in-hand.
+
+    With G_i = gripper2base_i, T_i = target2cam_i and a fixed target:
+    G_i X T_i = const, so A = G_j⁻¹ G_i and B = T_j T_i⁻¹ for all pairs i < j.
+    """
+    n = len(gripper2base)
+    if n < 3 or len(target2cam) != n:
+        raise ValueError(f"hand-eye needs ≥ 3 pose pairs, got {n} and {len(target2cam)}")
+    As, Bs = [], []
+    for i in range(n):
+        for j in range(i + 1, n):
+            As.append(gripper2base[j].inverse() * gripper2base[i])
+            Bs.append(target2cam[j] * target2cam[i].inverse())
+    alpha = np.array([A.rot.log() for A in As])
+    beta = np.array([B.rot.log() for B in Bs])
+    M = beta.T @ alpha  # Σ β αᵀ
+    w, V = np.linalg.eigh(M.T @ M)
+    if w.min() < 1e-12 * max(w.max(), 1e-300):
+        raise ValueError("hand-eye: the rotations are about parallel axes (≥ 2 axes are needed)")
+    R = V @ np.diag(w**-0.5) @ V.T @ M.T
+    U, _, Vt = np.linalg.svd(R)
+    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    C = np.vstack([A.rot.R - np.eye(3) for A in As])
+    d = np.concatenate([R @ B.pos - A.pos for A, B in zip(As, Bs)])
+    t, *_ = np.linalg.lstsq(C, d, rcond=None)
+    return SE3(SO3(R), t)
+
+
+def robot_world_hand_eye(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> Tuple[SE3, SE3]:
+    """(cam2gripper X, target2base Z) from G_i X T_i = Z: X by Park–Martin, then
+    Z as the mean of G_i X T_i."""
+    X = hand_eye_park(gripper2base, target2cam)
+    Z = mean_pose([G * X * T for G, T in zip(gripper2base, target2cam)])
+    return X, Z

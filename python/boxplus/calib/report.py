@@ -1,0 +1,156 @@
+"""Calibration report: RMS per measurement group, every parameter with its
+standard deviation, and a warning naming the parameters the data cannot
+determine.
+
+The diagnosis works on the whitened Jacobian J of all residuals w.r.t. the
+tangent coordinates of the free variables (what the solver sees). Columns are
+scaled to unit norm (so units do not matter) and decomposed, J D⁻¹ = U S Vᵀ.
+A singular value below ``rank_tol``·s_max is a direction the data does not
+determine (rank deficiency: e.g. the yaw of an IMU seen only through gravity);
+below ``cond_tol``·s_max it is badly conditioned. Each such direction is
+named by the parameters with the largest entries in its singular vector. The
+covariance is (JᵀJ)⁻¹ (the pseudo-inverse over the determined directions;
+undetermined parameters get an infinite σ), optionally rescaled by the
+a-posteriori variance factor σ̂² = ‖r‖² / (m − n) when the given Σ is only a
+guess (``rescale=True``, what OpenCV reports).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+__all__ = ["CalibrationReport", "Parameter", "report"]
+
+
+@dataclass
+class Parameter:
+    variable: str
+    label: str
+    value: float
+    std: float
+
+    @property
+    def name(self) -> str:
+        return f"{self.variable}.{self.label}"
+
+
+@dataclass
+class CalibrationReport:
+    rms: Dict[str, float]            # per group, unwhitened (pixels, m/s², ...)
+    count: Dict[str, int]            # error rows per group
+    parameters: List[Parameter]
+    undetermined: List[Tuple[float, List[str]]]   # (s / s_max, parameter names), rank-deficient
+    ill_conditioned: List[Tuple[float, List[str]]]  # (s / s_max, parameter names)
+    condition: float                 # s_max / s_min of the column-scaled Jacobian
+    sigma_factor: float              # σ̂ (1 when the given Σ fit the residuals)
+    rescaled: bool
+    covariance: np.ndarray = field(repr=False)  # tangent covariance over the free variables
+    columns: List[Tuple[int, int]] = field(repr=False)  # per column: (variable id, tangent index)
+
+    def std(self, variable: str) -> np.ndarray:
+        return np.array([p.std for p in self.parameters if p.variable == variable])
+
+    def value(self, variable: str) -> np.ndarray:
+        return np.array([p.value for p in self.parameters if p.variable == variable])
+
+    @property
+    def warnings(self) -> List[str]:
+        out = []
+        for s, names in self.undetermined:
+            out.append(f"NOT DETERMINED by the data (singular value {s:.1e} of the largest): "
+                       + ", ".join(names))
+        for s, names in self.ill_conditioned:
+            out.append(f"badly conditioned (singular value {s:.1e} of the largest): " + ", ".join(names))
+        return out
+
+    def __str__(self) -> str:
+        lines = ["calibration report", "  RMS per measurement group:"]
+        for g, r in self.rms.items():
+            lines.append(f"    {g:24s} {r:.5f}  ({self.count[g]} errors)")
+        lines.append(f"  parameters (± 1σ{', rescaled by σ̂ = %.4f' % self.sigma_factor if self.rescaled else ''}):")
+        for p in self.parameters:
+            lines.append(f"    {p.name:32s} {p.value:+14.6f} ± {p.std:.6f}")
+        lines.append(f"  condition number (scaled Jacobian): {self.condition:.3g}")
+        for w in self.warnings:
+            lines.append("  WARNING: " + w)
+        return "\n".join(lines)
+
+
+def _display_values(o, vid: int) -> np.ndarray:
+    """Values shown beside the tangent directions: Rⁿ coordinates, for a pose its
+    position and rotation vector (the tangent at the identity)."""
+    from boxplus.manifolds import SE3, SO3
+
+    v = o.value(vid)
+    if isinstance(v, SE3):
+        return np.concatenate([v.pos, v.rot.log()])
+    if isinstance(v, SO3):
+        return v.log()
+    a = np.asarray(v.ambient, float)
+    return a if a.size == o._codec(vid).dof else np.full(o._codec(vid).dof, np.nan)
+
+
+def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1e-5,
+           name_tol: float = 0.3) -> CalibrationReport:
+    """Builds the report of a solved :class:`~boxplus.OptimizationProblem`."""
+    jac = o.jacobian()
+    J = np.asarray(jac["jacobian"])
+    r = np.asarray(jac["residuals"])
+    columns: List[Tuple[int, int]] = []
+    names: List[str] = []
+    for vid in jac["variables"]:
+        labels = o.labels(vid)
+        vname = o.variable_name(vid)
+        for t, lab in enumerate(labels):
+            columns.append((vid, t))
+            names.append(f"{vname}.{lab}")
+    n = J.shape[1]
+    norms = np.linalg.norm(J, axis=0)
+    unobserved = norms == 0
+    Js = J[:, ~unobserved] / norms[~unobserved]
+    undetermined: List[Tuple[float, List[str]]] = []
+    ill: List[Tuple[float, List[str]]] = []
+    if unobserved.any():
+        undetermined.append((0.0, [names[i] for i in np.flatnonzero(unobserved)]))
+    cov = np.full((n, n), np.nan)
+    cond = np.inf
+    if Js.shape[1]:
+        _, s, Vt = np.linalg.svd(Js, full_matrices=False)
+        rel = s / s[0]
+        cond = s[0] / s[-1] if s[-1] > 0 else np.inf
+        idx = np.flatnonzero(~unobserved)
+        weak_cols = set(np.flatnonzero(unobserved))
+        for k in np.flatnonzero(rel < cond_tol):
+            v = Vt[k] / np.abs(Vt[k]).max()
+            involved = idx[np.abs(v) >= name_tol]
+            entry = (float(rel[k]), [names[i] for i in involved])
+            if rel[k] < rank_tol:
+                undetermined.append(entry)
+                weak_cols.update(involved.tolist())
+            else:
+                ill.append(entry)
+        good = rel >= rank_tol
+        Cs = (Vt[good].T / s[good] ** 2) @ Vt[good]
+        cov = np.full((n, n), np.nan)
+        cov[np.ix_(idx, idx)] = Cs / np.outer(norms[idx], norms[idx])
+        for c in weak_cols:
+            cov[c, :] = cov[:, c] = np.nan
+            cov[c, c] = np.inf
+    dof = max(J.shape[0] - n, 1)
+    sigma_factor = float(np.sqrt(r @ r / dof))
+    if rescale:
+        cov = cov * sigma_factor**2
+    params = []
+    for vid in jac["variables"]:
+        vals = _display_values(o, vid)
+        for t, lab in enumerate(o.labels(vid)):
+            c = columns.index((vid, t))
+            params.append(Parameter(o.variable_name(vid), lab, float(vals[t]), float(np.sqrt(cov[c, c]))))
+    errs = o.errors()
+    rms = {g: float(np.sqrt(np.mean(np.sum(e**2, axis=1)))) for g, e in errs.items()}
+    count = {g: len(e) for g, e in errs.items()}
+    return CalibrationReport(rms, count, params, undetermined, ill, float(cond), sigma_factor,
+                             rescale, cov, columns)

@@ -1,0 +1,231 @@
+// Every built-in factor: Jacobians (autodiff, mapped to the tangent space by
+// ⊞'s Jacobian) against central differences through ⊞, at random points; plus
+// a few exact values (board = stacked points, a DH link, gravity, disparity).
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "boxplus/errors.h"
+#include "boxplus/factors/board.h"
+#include "boxplus/factors/disparity.h"
+#include "boxplus/factors/gravity.h"
+#include "boxplus/factors/marker.h"
+#include "boxplus/factors/pinhole.h"
+#include "boxplus/factors/point.h"
+#include "boxplus/factors/relative_pose.h"
+#include "boxplus/manifolds.h"
+
+namespace boxplus {
+namespace {
+
+using Pose = Eigen::Matrix<double, 7, 1>;
+
+Pose RandomPose(std::mt19937& rng, double spread = 0.3) {
+  std::normal_distribution<double> g;
+  Eigen::Vector4d q(g(rng), g(rng), g(rng), 4.0 + g(rng));  // near identity: points stay in front
+  q.normalize();
+  Pose x;
+  x << spread * g(rng), spread * g(rng), spread * g(rng), q;
+  return x;
+}
+
+// A parameter block: its value and whether ⊞ is SE(3)'s (else Rⁿ's +).
+struct Block {
+  Eigen::VectorXd x;
+  bool pose;
+};
+
+Eigen::VectorXd Eval(const ceres::CostFunction& cost, const std::vector<Block>& blocks) {
+  std::vector<const double*> ptrs;
+  for (const auto& b : blocks) ptrs.push_back(b.x.data());
+  Eigen::VectorXd r(cost.num_residuals());
+  EXPECT_TRUE(cost.Evaluate(ptrs.data(), r.data(), nullptr));
+  return r;
+}
+
+// Tangent Jacobians of `cost` (autodiff × PlusJacobian) against central
+// differences of r(x ⊞ ±h eⱼ).
+void ExpectJacobiansMatch(const ceres::CostFunction& cost, std::vector<Block> blocks,
+                          double tol = 1e-6) {
+  const int m = cost.num_residuals();
+  std::vector<const double*> ptrs;
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J;
+  for (const auto& b : blocks) {
+    ptrs.push_back(b.x.data());
+    J.emplace_back(m, b.x.size());
+  }
+  std::vector<double*> jptrs;
+  for (auto& j : J) jptrs.push_back(j.data());
+  Eigen::VectorXd r(m);
+  ASSERT_TRUE(cost.Evaluate(ptrs.data(), r.data(), jptrs.data()));
+  SE3Manifold se3;
+  for (size_t k = 0; k < blocks.size(); ++k) {
+    const int n = blocks[k].pose ? 6 : static_cast<int>(blocks[k].x.size());
+    Eigen::MatrixXd Jt = J[k];
+    if (blocks[k].pose) {
+      Eigen::Matrix<double, 7, 6, Eigen::RowMajor> P;
+      se3.PlusJacobian(blocks[k].x.data(), P.data());
+      Jt = J[k] * P;
+    }
+    for (int j = 0; j < n; ++j) {
+      const double h = 1e-6;
+      Eigen::VectorXd rs[2];
+      for (int s = 0; s < 2; ++s) {
+        std::vector<Block> moved = blocks;
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+        d[j] = s == 0 ? h : -h;
+        if (blocks[k].pose) {
+          se3.Plus(blocks[k].x.data(), d.data(), moved[k].x.data());
+        } else {
+          moved[k].x += d;
+        }
+        rs[s] = Eval(cost, moved);
+      }
+      const Eigen::VectorXd numeric = (rs[0] - rs[1]) / (2 * h);
+      const double scale = std::max(1.0, numeric.cwiseAbs().maxCoeff());
+      EXPECT_LT((Jt.col(j) - numeric).cwiseAbs().maxCoeff(), tol * scale)
+          << "block " << k << " direction " << j << "\nautodiff " << Jt.col(j).transpose()
+          << "\nnumeric  " << numeric.transpose();
+    }
+  }
+}
+
+Eigen::VectorXd Intrinsics(const std::string& model) {
+  Eigen::VectorXd k(CameraModelSize(model));
+  if (model == "simple_radial") {
+    k << 500, 320, 240, -0.2;
+  } else {
+    k.head<4>() << 510, 505, 320, 240;
+    if (k.size() > 4) k.tail(k.size() - 4).setConstant(0.02);
+    if (k.size() > 4) k[4] = -0.25;
+  }
+  return k;
+}
+
+Eigen::Matrix2d W2() {
+  Eigen::Matrix2d W;
+  W << 2.0, 0.3, 0.0, 1.5;
+  return W;
+}
+
+TEST(BoardFactor, JacobiansAndEqualsStackedPoints) {
+  std::mt19937 rng(1);
+  for (const std::string model : {"simple_radial", "pinhole", "radial1", "radial2", "opencv5"}) {
+    PinholeBoardFunctor<camera::Pinhole>::Points3 p(4, 3);
+    p << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0.1;
+    PinholeBoardFunctor<camera::Pinhole>::Points2 z(4, 2);
+    z << 300, 200, 350, 210, 310, 260, 360, 250;
+    Pose x2world = RandomPose(rng);
+    x2world.head<3>() << 0.5, 0.5, -5;  // the camera 5 units in front of the board
+    const Pose x2cam = RandomPose(rng, 0.1);
+    auto board = MakePinholeBoardFactor(model, z, W2(), p);
+    std::vector<Block> blocks = {{Intrinsics(model), false}, {x2world, true}, {x2cam, true}};
+    ExpectJacobiansMatch(*board, blocks);
+    const Eigen::VectorXd r = Eval(*board, blocks);
+    for (int j = 0; j < 4; ++j) {
+      auto point = MakePinholePointFactor(model, z.row(j).transpose(), W2(), p.row(j).transpose());
+      EXPECT_LT((Eval(*point, blocks) - r.segment<2>(2 * j)).norm(), 1e-9) << model;
+    }
+  }
+  EXPECT_THROW(MakePinholeBoardFactor("fisheye", {}, W2(), {}), Error);
+}
+
+TEST(MarkerFactor, KnownKinematicsJacobians) {
+  std::mt19937 rng(2);
+  Pose hand2base = RandomPose(rng);
+  hand2base.head<3>() << 0.1, 0.2, 1.5;
+  auto f = MakeKnownKinematicsMarkerFactor("radial2", {300, 200}, W2(), hand2base);
+  ExpectJacobiansMatch(*f, {{Intrinsics("radial2"), false},
+                            {RandomPose(rng), true},
+                            {Eigen::Vector3d(0.05, -0.02, 0.1), false},
+                            {RandomPose(rng, 0.1), true}});
+}
+
+TEST(MarkerFactor, DHJacobiansAndOneLink) {
+  std::mt19937 rng(3);
+  Eigen::VectorXd q(3);
+  q << 0.3, -0.5, 0.8;
+  Eigen::VectorXd dh(12);
+  dh << 0.01, 0.2, 0.3, 0.5, -0.02, 0.0, 0.4, -0.3, 0.0, 0.1, 0.2, 0.2;
+  Pose prefix = Pose::Zero(), suffix = Pose::Zero();
+  prefix[6] = suffix[6] = 1;
+  prefix[2] = 2.0;  // the chain starts 2 units in front of the camera
+  auto f = MakeDHMarkerFactor("opencv5", {300, 200}, W2(), q, prefix, suffix);
+  ExpectJacobiansMatch(*f, {{Intrinsics("opencv5"), false},
+                            {RandomPose(rng, 0.05), true},
+                            {Eigen::Vector3d(0.05, -0.02, 0.1), false},
+                            {RandomPose(rng, 0.05), true},
+                            {dh, false}});
+  // One link: Rot_z(90°) Trans_x(1) takes the origin to (0, 1, 0).
+  double link[7];
+  kinematics::DHLink(kPi / 2, 0.0, 1.0, 0.0, link);
+  EXPECT_NEAR(link[0], 0.0, 1e-12);
+  EXPECT_NEAR(link[1], 1.0, 1e-12);
+  EXPECT_THROW(MakeDHMarkerFactor("opencv5", {0, 0}, W2(), Eigen::VectorXd(), prefix, suffix),
+               Error);
+}
+
+TEST(GravityFactor, JacobiansAndLevelledValue) {
+  std::mt19937 rng(4);
+  const Eigen::Matrix3d W = 3.0 * Eigen::Matrix3d::Identity();
+  for (const std::string model : {"rotation", "scale", "scale_bias"}) {
+    auto f = MakeGravityFactor(model, {0.1, -0.2, 9.7}, W, {0, 0, -9.81});
+    std::vector<Block> blocks = {{RandomPose(rng), true}, {RandomPose(rng), true}};
+    if (GravityModelSize(model) > 0) {
+      Eigen::VectorXd a(GravityModelSize(model));
+      a.setConstant(0.05);
+      a[0] = 1.02;
+      blocks.push_back({a, false});
+    }
+    ExpectJacobiansMatch(*f, blocks);
+  }
+  // Identity rotations: the IMU reads g_in_world itself.
+  auto f = MakeGravityFactor("rotation", {0, 0, -9.81}, W, {0, 0, -9.81});
+  Pose id = Pose::Zero();
+  id[6] = 1;
+  EXPECT_LT(Eval(*f, {{id, true}, {id, true}}).norm(), 1e-12);
+  EXPECT_THROW(MakeGravityFactor("tilt", {0, 0, 0}, W, {0, 0, 1}), Error);
+}
+
+TEST(RelativePoseFactor, JacobiansAndZeroAtTruth) {
+  std::mt19937 rng(5);
+  Eigen::Matrix<double, 6, 6> W = Eigen::Matrix<double, 6, 6>::Identity();
+  W(0, 4) = 0.3;
+  const Pose a = RandomPose(rng), b = RandomPose(rng);
+  SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
+  const SE3 b2a = A.inverse() * B;
+  auto f = MakeRelativePoseFactor(b2a.ambient(), W);
+  EXPECT_LT(Eval(*f, {{a, true}, {b, true}}).norm(), 1e-12);
+  ExpectJacobiansMatch(*MakeRelativePoseFactor(RandomPose(rng), W), {{a, true}, {b, true}});
+}
+
+TEST(PointFactor, Jacobians) {
+  std::mt19937 rng(6);
+  const Eigen::Matrix3d W = Eigen::Vector3d(1, 2, 3).asDiagonal();
+  ExpectJacobiansMatch(*MakePointFactor({0.1, 0.2, 1.0}, W, {0.3, -0.2, 2.0}),
+                       {{RandomPose(rng), true}, {RandomPose(rng), true}});
+  ExpectJacobiansMatch(*MakeLandmarkPointFactor({0.1, 0.2, 1.0}, W),
+                       {{RandomPose(rng), true},
+                        {RandomPose(rng), true},
+                        {Eigen::Vector3d(0.3, -0.2, 2.0), false}});
+}
+
+TEST(DisparityFactor, JacobiansAndValue) {
+  std::mt19937 rng(7);
+  Pose x2world = RandomPose(rng);
+  x2world.head<3>() << 0.2, 0.1, -2.0;
+  Eigen::VectorXd ab(2);
+  ab << 580.0, 1090.0;
+  ExpectJacobiansMatch(*MakeDisparityFactor(800.0, 0.5, {0.3, 0.4, 0.0}),
+                       {{x2world, true}, {RandomPose(rng, 0.05), true}, {ab, false}});
+  Pose id = Pose::Zero();
+  id[6] = 1;
+  Pose cam2board = id;
+  cam2board[2] = -2.0;  // board point (0,0,0) at depth 2
+  auto f = MakeDisparityFactor(580.0 / 2 + 1090.0, 1.0, {0, 0, 0});
+  EXPECT_NEAR(Eval(*f, {{cam2board, true}, {id, true}, {ab, false}})[0], 0.0, 1e-9);
+  EXPECT_THROW(MakeDisparityFactor(1.0, 0.0, {0, 0, 0}), Error);
+}
+
+}  // namespace
+}  // namespace boxplus

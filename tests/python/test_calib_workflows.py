@@ -1,0 +1,97 @@
+"""Synthetic rigs with known ground truth for the calibration workflows in
+examples/: the estimates lie within 3σ of the truth (σ as boxplus reports it),
+at several noise levels; undeterminable parameters are named."""
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import boxplus as bp
+from boxplus.calib import report
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _example(name):
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _within(est, truth, std, k=3.0, what=""):
+    err = np.abs(np.asarray(est) - np.asarray(truth))
+    assert np.all(err < k * np.asarray(std)), f"{what}: |error|/σ = {err / std}"
+
+
+def _pose_within(o, rep, vid, truth, what):
+    est = o[vid]
+    d = np.concatenate([est.pos - truth.pos, (truth.rot.inverse() * est.rot).log()])
+    std = rep.std(o.variable_name(vid))
+    _within(d, 0, std, what=what)
+
+
+@pytest.mark.parametrize("noise", [0.2, 0.5, 1.0])
+def test_camera_imu_within_3_sigma(noise):
+    ex = _example("camera_imu_calibration")
+    data = ex.simulate(np.random.default_rng(int(noise * 10)), pixel_sigma=noise)
+    o, ids, result = ex.calibrate(data)
+    assert result.usable
+    rep = report(o)
+    assert not rep.undetermined
+    _within(o[ids["camera"]].vec, ex.TRUTH["k"], rep.std("camera"), what="intrinsics")
+    _pose_within(o, rep, ids["cam2imu"], ex.TRUTH["cam2imu"], "cam2imu")
+    _within(o[ids["accel"]].vec, ex.TRUTH["accel"], rep.std("accel"), what="accel")
+    assert abs(rep.rms["camera"] / (np.sqrt(2) * noise) - 1) < 0.15
+
+
+def test_imu_yaw_from_one_gravity_reading_is_named_undetermined():
+    ex = _example("camera_imu_calibration")
+    data = ex.simulate(np.random.default_rng(1))
+    o, ids, _ = ex.calibrate(data, gravity_views=[0], estimate_accel=False)
+    rep = report(o)
+    named = {n for _, names in rep.undetermined for n in names}
+    assert any(n.startswith("cam2imu.θ") for n in named), rep.warnings
+    assert any("NOT DETERMINED" in w for w in rep.warnings)
+    assert np.isinf(rep.std("cam2imu")[3:]).any()
+
+
+def test_hand_eye_ml_beats_every_opencv_closed_form():
+    pytest.importorskip("cv2")
+    ex = _example("hand_eye_calibration")
+    rms = ex.compare(trials=8, seed=3)
+    ml = rms.pop("boxplus ML")
+    assert len(rms) == 7  # 5 calibrateHandEye + 2 calibrateRobotWorldHandEye methods
+    for name, (et, er) in rms.items():
+        assert ml[0] <= et, f"{name}: translation {et} < boxplus {ml[0]}"
+    assert ml[0] < 0.75 * min(et for et, _ in rms.values())
+
+
+@pytest.mark.parametrize("noise", [0.3, 1.0])
+def test_hand_eye_within_3_sigma(noise):
+    ex = _example("hand_eye_calibration")
+    o, ids, X = ex.calibrate(ex.simulate(np.random.default_rng(5), pixel_sigma=noise))
+    rep = report(o)
+    assert not rep.undetermined
+    _pose_within(o, rep, ids["gripper2cam"], ex.TRUTH["cam2gripper"].inverse(), "gripper2cam")
+    _pose_within(o, rep, ids["base2board"], ex.TRUTH["board2base"].inverse(), "base2board")
+
+
+def test_figures_are_written(tmp_path):
+    from boxplus.calib.plot import plot_reprojection_errors, plot_rig
+
+    ex = _example("camera_imu_calibration")
+    data = ex.simulate(np.random.default_rng(2), n_views=4)
+    o, ids, _ = ex.calibrate(data)
+    plot_reprojection_errors(o, str(tmp_path / "errors.png"))
+    frames = {"imu": o[ids["cam2imu"]].inverse()}
+    frames.update({f"cam{i}": o[v] for i, v in enumerate(range(o.num_variables))
+                   if o.variable_name(v).startswith("cam2world")})
+    plot_rig(str(tmp_path / "rig.png"), frames, [(bp.SE3(), data["p_world"])],
+             {"marker": np.zeros((1, 3))}, length=0.05)
+    for f in ("errors.png", "rig.png"):
+        assert (tmp_path / f).read_bytes()[:4] == b"\x89PNG"
