@@ -30,8 +30,8 @@ The gauge is fixed by the FIX lines, else by the first vertex.
 
 options:
   -i, --iterations N     maximum number of iterations (default 100)
-  -s, --solver NAME      lm (Levenberg-Marquardt, default), gn (Gauss-Newton),
-                         dogleg
+  -s, --solver NAME      lm (Levenberg-Marquardt, default), gn (Gauss-Newton:
+                         undamped, the trust region only rejects steps), dogleg
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
@@ -45,6 +45,15 @@ options:
                          replace information matrices that are not positive
                          definite by the nearest positive-definite one
                          (counted in a warning)
+      --initial-radius X initial trust-region radius of lm and dogleg (default
+                         1e16: lm starts as Gauss-Newton and damps only after a
+                         step fails; Ceres' own default is 1e4)
+      --damping NAME     lm's damping: levenberg (lambda*I, as g2o's LM;
+                         default) or marquardt (diag(J'J), Ceres' default)
+      --jacobi-scaling   scale the columns of J by 1/(1+|J_k|) (Ceres' default;
+                         off by default here)
+      --nonmonotonic N   accept up to N consecutive cost increases while the
+                         best cost still decreases (default 5; 0: monotonic)
       --function-tolerance X, --gradient-tolerance X, --parameter-tolerance X
                          Ceres' stopping tolerances (defaults 1e-10, 1e-12, 1e-10)
   -q, --quiet            no per-iteration lines
@@ -86,7 +95,7 @@ int main(int argc, char** argv) {
   int iterations = 100, threads = 1;
   bool quiet = false, full_report = false;
   boxplus::io::ReadOptions read;
-  boxplus::SolverOptions so;
+  boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     auto value = [&]() -> const char* {
@@ -119,6 +128,26 @@ int main(int argc, char** argv) {
       read.skip_unknown_tags = true;
     } else if (a == "--repair-information") {
       read.repair_information = true;
+    } else if (a == "--initial-radius") {
+      so.initial_trust_region_radius = ParseDouble(a, value());
+      if (!(so.initial_trust_region_radius > 0)) UsageError("--initial-radius must be > 0");
+    } else if (a == "--damping") {
+      const std::string d = value();
+      if (d == "marquardt") {
+        so.damping = boxplus::Damping::kMarquardt;
+      } else if (d == "levenberg") {
+        so.damping = boxplus::Damping::kLevenberg;
+      } else {
+        UsageError("unknown damping '" + d + "' (marquardt or levenberg)");
+      }
+    } else if (a == "--jacobi-scaling") {
+      so.jacobi_scaling = true;
+    } else if (a == "--no-jacobi-scaling") {
+      so.jacobi_scaling = false;
+    } else if (a == "--nonmonotonic") {
+      const int n = ParseInt(a, value());
+      so.use_nonmonotonic_steps = n > 0;
+      so.max_consecutive_nonmonotonic_steps = n;
     } else if (a == "--function-tolerance") {
       so.function_tolerance = ParseDouble(a, value());
     } else if (a == "--gradient-tolerance") {

@@ -136,6 +136,17 @@ int PoseGraph::AddEdge(const io::Edge& e) {
   return problem_.num_measurements() - 1;
 }
 
+SolverOptions DefaultSolverOptions() {
+  SolverOptions o;
+  o.method = Method::kLevenbergMarquardt;
+  o.initial_trust_region_radius = 1e16;
+  o.damping = Damping::kLevenberg;
+  o.jacobi_scaling = false;
+  o.use_nonmonotonic_steps = true;
+  o.max_consecutive_nonmonotonic_steps = 5;
+  return o;
+}
+
 SolveSummary PoseGraph::Solve(const SolverOptions& options) { return problem_.Solve(options); }
 
 double PoseGraph::Chi2(PoseErrorConvention convention) const {

@@ -241,6 +241,19 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
   ceres::Solver::Options o;
   o.minimizer_type = ceres::TRUST_REGION;
   o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  BOXPLUS_CHECK(options.initial_trust_region_radius > 0,
+                "initial_trust_region_radius must be > 0");
+  BOXPLUS_CHECK(options.max_consecutive_nonmonotonic_steps >= 0,
+                "max_consecutive_nonmonotonic_steps must be >= 0");
+  o.initial_trust_region_radius = options.initial_trust_region_radius;
+  o.max_trust_region_radius = std::max(o.max_trust_region_radius, o.initial_trust_region_radius);
+  if (options.damping == Damping::kLevenberg) {
+    o.min_lm_diagonal = 1.0;
+    o.max_lm_diagonal = 1.0;
+  }
+  o.jacobi_scaling = options.jacobi_scaling;
+  o.use_nonmonotonic_steps = options.use_nonmonotonic_steps;
+  o.max_consecutive_nonmonotonic_steps = options.max_consecutive_nonmonotonic_steps;
   switch (options.method) {
     case Method::kLevenbergMarquardt:
       break;
@@ -253,6 +266,7 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
       o.min_lm_diagonal = 1e-32;
       o.max_lm_diagonal = 1e-32;
       o.initial_trust_region_radius = 1e16;
+      o.max_trust_region_radius = 1e16;
       break;
   }
   o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;

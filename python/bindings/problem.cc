@@ -122,9 +122,26 @@ The public, friendlier front is boxplus.OptimizationProblem.
           "solve",
           [](Problem& p, const std::string& method, int max_iterations, double function_tolerance,
              double gradient_tolerance, double parameter_tolerance, int num_threads, bool verbose,
-             const py::object& callback) {
+             const py::object& callback, double initial_trust_region_radius,
+             const std::string& damping, bool jacobi_scaling, int nonmonotonic_steps) {
             SolverOptions o;
             o.method = ParseMethod(method);
+            if (!(initial_trust_region_radius > 0)) {
+              throw py::value_error("initial_trust_region_radius must be > 0");
+            }
+            o.initial_trust_region_radius = initial_trust_region_radius;
+            if (damping == "marquardt") {
+              o.damping = Damping::kMarquardt;
+            } else if (damping == "levenberg") {
+              o.damping = Damping::kLevenberg;
+            } else {
+              throw py::value_error("unknown damping '" + damping +
+                                    "' (expected 'marquardt' or 'levenberg')");
+            }
+            o.jacobi_scaling = jacobi_scaling;
+            if (nonmonotonic_steps < 0) throw py::value_error("nonmonotonic_steps must be >= 0");
+            o.use_nonmonotonic_steps = nonmonotonic_steps > 0;
+            o.max_consecutive_nonmonotonic_steps = nonmonotonic_steps;
             o.max_iterations = max_iterations;
             o.function_tolerance = function_tolerance;
             o.gradient_tolerance = gradient_tolerance;
@@ -176,6 +193,8 @@ The public, friendlier front is boxplus.OptimizationProblem.
           py::arg("function_tolerance") = 1e-10, py::arg("gradient_tolerance") = 1e-12,
           py::arg("parameter_tolerance") = 1e-10, py::arg("num_threads") = 1,
           py::arg("verbose") = false, py::arg("callback") = py::none(),
+          py::arg("initial_trust_region_radius") = 1e4, py::arg("damping") = "marquardt",
+          py::arg("jacobi_scaling") = true, py::arg("nonmonotonic_steps") = 0,
           R"doc(
 Minimises ½ Σ ρ(‖rᵢ‖²) with ⊞ steps.
 
@@ -184,6 +203,16 @@ Parameters
 method : {'lm', 'gn', 'dogleg'}
     Levenberg–Marquardt, Gauss–Newton (undamped, steps that raise the cost are
     rejected), or Powell's dogleg.
+initial_trust_region_radius : float
+    Ceres' initial radius μ₀ (LM solves (JᵀJ + D/μ) δ = −Jᵀr); a huge value
+    (1e16) starts like Gauss–Newton and damps only after a failed step.
+damping : {'marquardt', 'levenberg'}
+    D = diag(JᵀJ) (Ceres' default) or D = I (λI, as g2o's LM).
+jacobi_scaling : bool
+    Scale the columns of J by 1/(1 + ‖J_k‖) before solving (Ceres' default).
+nonmonotonic_steps : int
+    Accept up to this many consecutive cost increases while the best cost
+    still decreases (0: monotonic).
 callback : callable, optional
     Called after each iteration with a dict (iteration, cost, ...); return
     False to stop. Ctrl-C stops the solve and keeps the last accepted estimate

@@ -68,6 +68,21 @@ Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
 }  // namespace
 
 void RegisterSlam(py::module_& m) {
+  m.def(
+      "pose_graph_solver_defaults",
+      [] {
+        const SolverOptions o = slam::DefaultSolverOptions();
+        py::dict d;
+        d["initial_trust_region_radius"] = o.initial_trust_region_radius;
+        d["damping"] = o.damping == Damping::kLevenberg ? "levenberg" : "marquardt";
+        d["jacobi_scaling"] = o.jacobi_scaling;
+        d["nonmonotonic_steps"] =
+            o.use_nonmonotonic_steps ? o.max_consecutive_nonmonotonic_steps : 0;
+        return d;
+      },
+      "The trust-region settings boxplus uses for pose graphs "
+      "(boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.");
+
   py::class_<PoseGraph>(m, "PoseGraph", R"doc(
 A pose graph read from a g2o/TORO file, as a boxplus Problem.
 

@@ -6,6 +6,8 @@
 #include <ceres/cost_function.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "boxplus/factors/bearing_range.h"
 #include "boxplus/factors/pose_point.h"
 #include "boxplus/factors/relative_pose2d.h"
@@ -61,24 +63,60 @@ Eigen::Matrix<double, 6, 6> RandomInfo(std::mt19937& rng, int n = 6) {
   return out;
 }
 
+void ExpectAnalyticMatchesAutodiff3D(const Eigen::Matrix<double, 7, 1>& xi,
+                                     const Eigen::Matrix<double, 7, 1>& xj,
+                                     const Eigen::Matrix<double, 7, 1>& z,
+                                     const Eigen::Matrix<double, 6, 6>& info,
+                                     PoseErrorConvention convention, int trial) {
+  static const auto se3 = MakeManifold("SE3");
+  auto analytic = MakeRelativePose3D(z, info, convention);
+  auto autodiff = MakeRelativePose3DAutoDiff(z, info, convention);
+  Eigen::VectorXd ra, rb;
+  std::vector<RowMat> Ja, Jb;
+  Evaluate(*analytic, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &ra, &Ja);
+  Evaluate(*autodiff, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &rb, &Jb);
+  EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm())) << "trial " << trial;
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_LT((Ja[k] - Jb[k]).norm(), 1e-9 * (1 + Jb[k].norm())) << "trial " << trial;
+  }
+}
+
 TEST(RelativePose3D, AnalyticJacobiansMatchAutodiff) {
   std::mt19937 rng(3);
-  const auto se3 = MakeManifold("SE3");
   for (int trial = 0; trial < 200; ++trial) {
     const auto xi = RandomSE3(rng), xj = RandomSE3(rng);
     // Measurements near the truth and far from it (w of q_Δ near 0 included).
     const auto z = trial % 2 ? RandomSE3(rng) : RandomSE3(rng, 0.1);
     const auto info = RandomInfo(rng);
-    auto analytic = MakeRelativePose3D(z, info, PoseErrorConvention::kG2o);
-    auto autodiff = MakeRelativePose3DAutoDiff(z, info, PoseErrorConvention::kG2o);
-    Eigen::VectorXd ra, rb;
-    std::vector<RowMat> Ja, Jb;
-    Evaluate(*analytic, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &ra, &Ja);
-    Evaluate(*autodiff, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &rb, &Jb);
-    EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm()));
-    for (int k = 0; k < 2; ++k) {
-      EXPECT_LT((Ja[k] - Jb[k]).norm(), 1e-9 * (1 + Jb[k].norm())) << "trial " << trial;
-    }
+    ExpectAnalyticMatchesAutodiff3D(xi, xj, z, info, PoseErrorConvention::kG2o, trial);
+  }
+}
+
+// z = (x_i⁻¹ x_j) · exp of a rotation of angle ~scale (θ_Δ ~ scale).
+Eigen::Matrix<double, 7, 1> NearRelative(const Eigen::Matrix<double, 7, 1>& xi,
+                                         const Eigen::Matrix<double, 7, 1>& xj, double scale,
+                                         std::mt19937& rng) {
+  std::normal_distribution<double> g(0, 1);
+  const Eigen::Quaterniond qi(xi[6], xi[3], xi[4], xi[5]), qj(xj[6], xj[3], xj[4], xj[5]);
+  const Eigen::Vector3d w = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized() * scale;
+  const Eigen::Quaterniond dq(Eigen::AngleAxisd(w.norm(), w.normalized()));
+  const Eigen::Quaterniond qz = qi.conjugate() * qj * dq;
+  Eigen::Matrix<double, 7, 1> z;
+  z.head<3>() = qi.conjugate() * (xj.head<3>() - xi.head<3>()) +
+                scale * Eigen::Vector3d(g(rng), g(rng), g(rng));
+  z.tail<4>() = qz.coeffs();
+  return z;
+}
+
+TEST(RelativePose3D, LogConventionAnalyticJacobiansMatchAutodiff) {
+  std::mt19937 rng(5);
+  // θ_Δ from 1e-5 (the series branch of c(θ)) over 1e-2 to arbitrary (up to π).
+  const double scales[] = {1e-5, 3e-4, 5e-2, 0.5};
+  for (int trial = 0; trial < 200; ++trial) {
+    const auto xi = RandomSE3(rng), xj = RandomSE3(rng);
+    const auto z = trial % 5 == 4 ? RandomSE3(rng) : NearRelative(xi, xj, scales[trial % 5], rng);
+    const auto info = RandomInfo(rng);
+    ExpectAnalyticMatchesAutodiff3D(xi, xj, z, info, PoseErrorConvention::kLog, trial);
   }
 }
 

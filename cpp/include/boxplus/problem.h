@@ -30,6 +30,13 @@ namespace boxplus {
 
 enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg };
 
+// The damping matrix D of a Levenberg–Marquardt step (JᵀJ + D/μ) δ = −Jᵀr,
+// μ the trust-region radius:
+//   kMarquardt  D = diag(JᵀJ), clamped to [1e-6, 1e32] (Ceres' default);
+//   kLevenberg  D = I, i.e. λI damping with λ = 1/μ (g2o's LM); with
+//               jacobi_scaling the identity is in the scaled coordinates.
+enum class Damping { kMarquardt, kLevenberg };
+
 // What the per-iteration callback sees.
 struct IterationInfo {
   int iteration = 0;
@@ -50,6 +57,18 @@ struct SolverOptions {
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-10;
   int num_threads = 1;
+  // Trust-region strategy (Levenberg–Marquardt and Gauss–Newton; see Ceres'
+  // Solver::Options). A very large initial radius starts like Gauss–Newton
+  // and damps only after a step fails (each failure divides the radius by a
+  // factor that doubles on consecutive failures; a success grows it).
+  double initial_trust_region_radius = 1e4;
+  Damping damping = Damping::kMarquardt;
+  // Scale the columns of J by 1/(1 + ‖J_k‖) before solving.
+  bool jacobi_scaling = true;
+  // Accept steps that increase the cost while the best cost seen in the last
+  // few steps still decreases enough (Ceres' use_nonmonotonic_steps).
+  bool use_nonmonotonic_steps = false;
+  int max_consecutive_nonmonotonic_steps = 5;
   // Print one line per iteration (cost, change, time) to stderr.
   bool verbose = false;
   // Called after every iteration; return false to stop early (Ctrl-C). The

@@ -29,10 +29,12 @@ from typing import Callable, Optional, Union
 import numpy as np
 
 from boxplus._core import PoseGraph as _CorePoseGraph
+from boxplus._core import pose_graph_solver_defaults as _solver_defaults
 
 from .reference import chi2_g2o, chi2_log, read_g2o_arrays
 
 __all__ = [
+    "SOLVER_DEFAULTS",
     "SlamProblem",
     "load_g2o",
     "save_g2o",
@@ -43,6 +45,11 @@ __all__ = [
 ]
 
 PathType = Union[str, "PathLike[str]"]
+
+
+#: Trust-region settings used by :meth:`SlamProblem.solve` (and ``boxplus-g2o``),
+#: from C++ ``boxplus::slam::DefaultSolverOptions``.
+SOLVER_DEFAULTS = dict(_solver_defaults())
 
 
 class SlamProblem:
@@ -147,12 +154,24 @@ class SlamProblem:
         function_tolerance: float = 1e-10,
         gradient_tolerance: float = 1e-12,
         parameter_tolerance: float = 1e-10,
+        **trust_region,
     ):
         """Solves in place (the C++ solver, GIL released); returns a SolveSummary.
 
         ``summary.final_cost`` is half the chi2 (Ceres' cost).
+
+        The trust-region settings default to those measured best on pose
+        graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton, λI
+        damping, no Jacobi scaling, up to 5 nonmonotonic steps); override any of
+        ``initial_trust_region_radius``, ``damping`` ('levenberg' or
+        'marquardt'), ``jacobi_scaling``, ``nonmonotonic_steps`` by keyword
+        (``boxplus.Problem.solve`` documents them).
         """
+        unknown = set(trust_region) - set(SOLVER_DEFAULTS)
+        if unknown:
+            raise TypeError(f"solve() got unexpected keyword arguments {sorted(unknown)}")
         return self._core.problem.solve(
+            **{**SOLVER_DEFAULTS, **trust_region},
             method=method,
             max_iterations=max_iterations,
             function_tolerance=function_tolerance,

@@ -45,6 +45,15 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
 double EdgeChi2(const io::Edge& edge, const double* from, const double* to,
                 PoseErrorConvention convention);
 
+// The solver settings for pose graphs, chosen from measurements on the
+// standard data sets in both conventions (README, SLAM; bench/bench_slam.py):
+// Levenberg–Marquardt that starts as Gauss–Newton (initial trust-region radius
+// 1e16) and damps only after a failed step, with Levenberg's λI damping (as
+// g2o's LM) on the unscaled Jacobian and up to 5 consecutive nonmonotonic
+// steps. Gauss–Newton's iteration counts (4 on parking-garage instead of 29
+// with Ceres' defaults) while keeping LM's safeguard on bad starts (MIT).
+SolverOptions DefaultSolverOptions();
+
 struct PoseGraphOptions {
   PoseErrorConvention convention = PoseErrorConvention::kG2o;
   std::string robust = "none";
