@@ -5,6 +5,9 @@
    the reported standard deviations (tangent space [translation, rotation]).
 2. Calibrate a camera from OpenCV's chessboard sample (the MTKM paper's Listing 1,
    examples/camera_calibration.py) and compare with cv2.calibrateCamera.
+3. Pose-graph SLAM on the bundled Intel Research Lab graph (data/slam/intel.g2o,
+   examples/slam_pose_graph.py): chordal initialisation, then Levenberg–Marquardt;
+   chi2 per iteration, the optimised .g2o and a before/after PNG in slam_output/.
 """
 
 import numpy as np
@@ -41,3 +44,8 @@ if __name__ == "__main__":
     import camera_calibration
 
     camera_calibration.main()
+    print()
+    import slam_pose_graph
+
+    print("pose-graph SLAM (examples/slam_pose_graph.py):")
+    slam_pose_graph.main([])

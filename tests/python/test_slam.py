@@ -196,3 +196,18 @@ def test_cli_trust_region_options():
         r = subprocess.run([_cli(), *bad, str(DATA / "tinyGrid3D.g2o")], capture_output=True,
                            text=True)
         assert r.returncode == 2
+
+
+def test_example_slam_pose_graph(tmp_path):
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "slam_pose_graph.py"
+    spec = importlib.util.spec_from_file_location("slam_pose_graph", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    res = mod.main(["--out", str(tmp_path)])  # bundled data/slam/intel.g2o, chordal init
+    assert res["summary"].usable
+    assert res["chi2"] <= 45.00469581 * (1 + 1e-6)  # g2o's (and GTSAM's) optimum on intel
+    assert res["chi2_file"] > 500
+    assert slam.load_g2o(res["g2o"]).chi2() == pytest.approx(res["chi2"], rel=1e-9)
+    assert res["png"].stat().st_size > 10_000
