@@ -44,6 +44,7 @@ import numpy as np
 import boxplus as bp
 from boxplus.calib import (add_camera, init_camera, marker_hand_eye, relative_pose_init, report,
                            rotation_between, triangulate)
+from boxplus.calib import synthetic
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 MODEL = "opencv5"
@@ -252,15 +253,7 @@ def calibrate(data, kinematics="known", dh_prior=True):
 
 def errors_in_sigma(o, rep, ids):
     """{variable: |estimate − truth| / σ per tangent direction}."""
-    out = {}
-    for name, vid in ids.items():
-        est, truth = o[vid], TRUTH[name]
-        if isinstance(est, bp.SE3):
-            d = np.concatenate([est.pos - truth.pos, (truth.rot.inverse() * est.rot).log()])
-        else:
-            d = est.vec - truth
-        out[name] = np.abs(d) / rep.std(o.variable_name(vid))
-    return out
+    return synthetic.errors_in_sigma(o, rep, ids, TRUTH)
 
 
 def main():

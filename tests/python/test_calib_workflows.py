@@ -157,3 +157,19 @@ def test_triangulate_and_marker_hand_eye_are_exact_without_noise():
     np.testing.assert_allclose(X.matrix(), x2base.matrix(), atol=1e-9)
     np.testing.assert_allclose(p0, p_hand[0], atol=1e-9)
     np.testing.assert_allclose(p1, p_hand[1], atol=1e-9)
+
+
+@pytest.mark.parametrize("noise", [0.3, 1.0])
+def test_rgbd_within_3_sigma(noise):
+    ex = _example("rgbd_calibration")
+    data = ex.simulate(np.random.default_rng(1), pixel_sigma=noise)
+    o, ids, result = ex.calibrate(data)
+    assert result.usable
+    rep = report(o)
+    assert not rep.undetermined, rep.warnings
+    zmax, zrms = _max_z_and_rms(ex, o, rep, ids)
+    assert zmax < 3.0, ex.errors_in_sigma(o, rep, ids)
+    assert 0.5 < zrms < 1.5
+    for g in ("rgb", "ir"):
+        assert abs(rep.rms[g] / (np.sqrt(2) * noise) - 1) < 0.15
+    assert abs(rep.rms["disparity"] / noise - 1) < 0.15
