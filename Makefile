@@ -7,12 +7,12 @@ JOBS   ?= 2
 CPP_BUILD := build/cpp
 PREFIX    := build/prefix
 
-.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test bench clean
+.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench clean
 
 demo: install
 	$(VPY) examples/demo.py
 
-test: cpp-test consumer-test py-test
+test: cpp-test consumer-test py-test lint
 
 deps:
 	@bash scripts/install_deps.sh
@@ -21,7 +21,7 @@ venv: deps
 	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
 	@$(VPY) -m pip install -q --disable-pip-version-check \
 	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
-	    "opencv-python-headless>=4.8,<5"
+	    "opencv-python-headless>=4.8,<5" ruff
 
 # pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
 install: venv
@@ -44,6 +44,10 @@ consumer-test: cpp
 
 py-test: install
 	$(VPY) -m pytest -q
+
+# Pyflakes and pycodestyle errors (not style): unused names, undefined names, ...
+lint: venv
+	$(VPY) -m ruff check --no-cache --select E,F,W --ignore E501,E741,E731 python tests examples bench
 
 bench: install
 	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true

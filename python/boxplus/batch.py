@@ -279,18 +279,8 @@ class SE3Batch:
         return self.pos.shape[0]
 
 
-class S2Batch:
-    """N unit vectors: ``.vec`` (N, 3)."""
-
-    def __init__(self, vec: np.ndarray) -> None:
-        self.vec = np.asarray(vec, dtype=float)
-
-    @property
-    def ambient(self) -> np.ndarray:
-        return self.vec
-
-    def __len__(self) -> int:
-        return self.vec.shape[0]
+class S2Batch(RnBatch):
+    """N unit vectors: ``.vec`` (N, 3) (stored like Rⁿ rows)."""
 
 
 class CompoundBatch:

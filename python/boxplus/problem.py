@@ -22,7 +22,6 @@ with both.
 from __future__ import annotations
 
 import sys
-import time
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -130,6 +129,25 @@ def _note(e: BaseException, text: str) -> None:
         e.add_note(text)
 
 
+def _batch_errors(name: str, z_codec: Optional[Codec], m: int, Y: Any, Z: np.ndarray, n: int) -> np.ndarray:
+    """Y ⊟ Z row by row for the output Y of a vectorised function (N predictions)."""
+    if z_codec is None:
+        Y = np.asarray(Y, dtype=float)
+        if Y.shape != (n, m):
+            raise EvaluationError(
+                f"measurement group '{name}': the vectorised function returned shape "
+                f"{Y.shape}, expected ({n}, {m})"
+            )
+        return Y - Z
+    Ya = np.asarray(getattr(Y, "ambient", Y), dtype=float)
+    if Ya.shape != Z.shape:
+        raise EvaluationError(
+            f"measurement group '{name}': the vectorised function returned values of "
+            f"ambient shape {Ya.shape}, expected {Z.shape}"
+        )
+    return z_codec.manifold.minus_batch(Ya, Z)
+
+
 class _Group:
     """Measurements that share one Python function; evaluated together."""
 
@@ -224,21 +242,7 @@ class _Group:
         return self.z_codec.manifold.minus(self.z_codec.to_ambient(y), z)
 
     def _minus_batch(self, Y: Any, Z: np.ndarray, n: int) -> np.ndarray:
-        if self.z_codec is None:
-            Y = np.asarray(Y, dtype=float)
-            if Y.shape != (n, self.m):
-                raise EvaluationError(
-                    f"measurement group '{self.name}': the vectorised function returned shape "
-                    f"{Y.shape}, expected ({n}, {self.m})"
-                )
-            return Y - Z
-        Ya = np.asarray(getattr(Y, "ambient", Y), dtype=float)
-        if Ya.shape != Z.shape:
-            raise EvaluationError(
-                f"measurement group '{self.name}': the vectorised function returned values of "
-                f"ambient shape {Ya.shape}, expected {Z.shape}"
-            )
-        return self.z_codec.manifold.minus_batch(Ya, Z)
+        return _batch_errors(self.name, self.z_codec, self.m, Y, Z, n)
 
     def current_values(self) -> List[np.ndarray]:
         ids, *_ = self._pack()
@@ -586,9 +590,7 @@ class OptimizationProblem:
         except Exception as e:
             _note(e, f"raised by the vectorised function of {what} when they were added")
             raise
-        probe = _Group.__new__(_Group)
-        probe.z_codec, probe.m, probe.name = z_codec, m, fname
-        E = probe._minus_batch(Y, Zarr, n)
+        E = _batch_errors(fname, z_codec, m, Y, Zarr, n)
         if not np.all(np.isfinite(E)):
             i = int(np.argmax(~np.all(np.isfinite(E), axis=1)))
             raise EvaluationError(f"{what}: f gives a non-finite prediction for row {i} at the initial values")

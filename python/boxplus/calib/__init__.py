@@ -25,11 +25,13 @@ from boxplus.calib.init import (
     camera_matrix,
     check_views,
     hand_eye_park,
+    marker_hand_eye,
     intrinsics_vector,
     mean_pose,
     relative_pose_init,
     robot_world_hand_eye,
     rotation_between,
+    triangulate,
 )
 from boxplus.calib.rig import Calibration, add_camera, calibrate_mono, calibrate_stereo, detect_corners
 from boxplus.calib.report import CalibrationReport, report
@@ -39,5 +41,5 @@ __all__ = [
     "calibrate_mono", "calibrate_stereo", "camera_matrix", "check_views", "detect_corners",
     "hand_eye_park", "homography", "init_camera", "intrinsics_from_homographies",
     "intrinsics_vector", "mean_pose", "pose_from_homography", "relative_pose_init", "report",
-    "robot_world_hand_eye", "rotation_between",
+    "marker_hand_eye", "robot_world_hand_eye", "rotation_between", "triangulate",
 ]

@@ -7,7 +7,11 @@
   the chordal mean of the per-view transforms;
 * rotation between two sensors from paired directions (camera–IMU from
   gravity): Kabsch/Wahba;
-* hand-eye AX = XB (Park & Martin 1994) and robot-world/hand-eye AX = ZB.
+* hand-eye AX = XB (Park & Martin 1994) and robot-world/hand-eye AX = ZB;
+* stereo triangulation of points (midpoint of the two rays);
+* a camera's mount on a robot link and the markers on its hands from
+  triangulated marker positions and forward kinematics (linear, then
+  projected onto SO(3)).
 
 Frames: ``a2b`` maps points of frame a into frame b (p_in_b = R p_in_a + t).
 Poses are boxplus SE3 values, tangent order [translation, rotation].
@@ -25,7 +29,7 @@ from boxplus.calib.zhang import homography, init_camera, pose_from_homography
 __all__ = [
     "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "init_camera",
     "board_pose", "mean_pose", "relative_pose_init", "rotation_between", "hand_eye_park",
-    "robot_world_hand_eye",
+    "robot_world_hand_eye", "triangulate", "marker_hand_eye",
 ]
 
 CAMERA_LABELS = {
@@ -184,3 +188,69 @@ def robot_world_hand_eye(gripper2base: Sequence[SE3], target2cam: Sequence[SE3])
     X = hand_eye_park(gripper2base, target2cam)
     Z = mean_pose([G * X * T for G, T in zip(gripper2base, target2cam)])
     return X, Z
+
+
+def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarray, a2b: SE3,
+                model: str = "opencv5") -> np.ndarray:
+    """Points (N, 3) in frame a from their pixels (N, 2) in two calibrated cameras
+    a and b (intrinsics vectors of ``model``; ``a2b`` maps points of a into b): the
+    midpoint of the closest points of the two undistorted rays."""
+    Ka, da = camera_matrix(k_a, model)
+    Kb, db = camera_matrix(k_b, model)
+    za, zb = np.atleast_2d(np.asarray(z_a, float)), np.atleast_2d(np.asarray(z_b, float))
+    if za.shape != zb.shape or za.shape[1] != 2:
+        raise ValueError(f"triangulate: z_a and z_b must be the same (N, 2), got {za.shape}, {zb.shape}")
+    ra = np.column_stack([_undistort_normalised(za, Ka, da), np.ones(len(za))])
+    rb = np.column_stack([_undistort_normalised(zb, Kb, db), np.ones(len(zb))])
+    R, t = a2b.rot.R, a2b.pos
+    rb_in_a = rb @ R  # Rᵀ r_b, rows
+    c_b = -R.T @ t    # b's centre in a
+    out = np.empty((len(za), 3))
+    for i in range(len(za)):
+        A = np.column_stack([ra[i], -rb_in_a[i]])
+        lam, *_ = np.linalg.lstsq(A, c_b, rcond=None)
+        out[i] = 0.5 * (lam[0] * ra[i] + c_b + lam[1] * rb_in_a[i])
+    return out
+
+
+def marker_hand_eye(p_in_x: Sequence[np.ndarray], hand2base: Sequence[Sequence[SE3]]
+                    ) -> Tuple[SE3, List[np.ndarray]]:
+    """(x2base, [p_in_hand per hand]) from markers seen in a sensor frame x.
+
+    For hand h and arm pose i the marker p_h (fixed on the hand, unknown) is
+    measured at ``p_in_x[h][i]`` (e.g. triangulated by a stereo head) while
+    forward kinematics gives ``hand2base[h][i]`` = (R_hi, t_hi):
+
+        R_x p_in_x[h][i] + t_x − R_hi p_h = t_hi,
+
+    linear in (R_x as 9 numbers, t_x, p_h for every hand). It is solved by least
+    squares, R_x projected onto SO(3), then t_x and the p_h solved again with R_x
+    fixed. Needs the marker positions to span 3-D and the hands to rotate.
+    """
+    if len(p_in_x) != len(hand2base) or not p_in_x:
+        raise ValueError("marker_hand_eye: one list of points and one of poses per hand")
+    nh = len(p_in_x)
+    rows, rhs = [], []
+    for h, (P, poses) in enumerate(zip(p_in_x, hand2base)):
+        P = np.asarray(P, float).reshape(-1, 3)
+        if len(P) != len(poses):
+            raise ValueError(f"marker_hand_eye: hand {h}: {len(P)} points for {len(poses)} poses")
+        for p, H in zip(P, poses):
+            A = np.zeros((3, 12 + 3 * nh))
+            A[:, :9] = np.kron(np.eye(3), p)      # R_x p, R_x row-major
+            A[:, 9:12] = np.eye(3)
+            A[:, 12 + 3 * h:15 + 3 * h] = -H.rot.R
+            rows.append(A)
+            rhs.append(H.pos)
+    A, b = np.vstack(rows), np.concatenate(rhs)
+    s = np.linalg.svd(A, compute_uv=False)
+    if s[-1] < 1e-9 * s[0]:
+        raise ValueError("marker_hand_eye: degenerate poses (markers in a plane, or hands that do not rotate)")
+    x, *_ = np.linalg.lstsq(A, b, rcond=None)
+    U, _, Vt = np.linalg.svd(x[:9].reshape(3, 3))
+    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    # with R fixed: t_x and the p_h
+    A2 = A[:, 9:]
+    b2 = b - A[:, :9] @ R.reshape(-1)
+    y, *_ = np.linalg.lstsq(A2, b2, rcond=None)
+    return SE3(SO3(R), y[:3]), [y[3 + 3 * h:6 + 3 * h] for h in range(nh)]

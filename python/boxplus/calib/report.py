@@ -18,7 +18,7 @@ guess (``rescale=True``, what OpenCV reports).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Tuple
 
 import numpy as np
 

@@ -14,7 +14,7 @@ import numpy as np
 from boxplus.manifolds import SE3, SO3
 from boxplus.calib.init import camera_matrix
 
-__all__ = ["board_points", "look_at", "random_views", "project", "TRUE_K"]
+__all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K"]
 
 # fx fy cx cy k1 k2 p1 p2 k3 of a 640×480 camera (opencv5 layout)
 TRUE_K = np.array([520.0, 515.0, 322.0, 245.0, -0.28, 0.08, 0.001, -0.0005, 0.0])
@@ -71,3 +71,19 @@ def observe(k: np.ndarray, cam2world: SE3, p_world: np.ndarray, sigma: float,
     if image_size is not None:
         vis &= (uv[:, 0] >= 0) & (uv[:, 0] < image_size[0]) & (uv[:, 1] >= 0) & (uv[:, 1] < image_size[1])
     return uv[vis] + rng.normal(0, sigma, (vis.sum(), 2)), vis
+
+
+def errors_in_sigma(o, rep, ids, truth) -> dict:
+    """{name: |estimate − truth| / σ per tangent direction} for the variables
+    ``ids`` {name: variable id} of a solved problem, ``truth`` {name: value}, σ
+    from the report ``rep``; a pose's error is [p − p_true, Log(R_trueᵀ R)], the
+    tangent order of SE3."""
+    out = {}
+    for name, vid in ids.items():
+        est, t = o[vid], truth[name]
+        if isinstance(est, SE3):
+            d = np.concatenate([est.pos - t.pos, (t.rot.inverse() * est.rot).log()])
+        else:
+            d = np.asarray(est.vec) - np.asarray(t)
+        out[name] = np.abs(d) / rep.std(o.variable_name(vid))
+    return out

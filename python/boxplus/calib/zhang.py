@@ -128,15 +128,28 @@ def init_camera(
 
     Parameters
     ----------
-    object_points : (M, 3)
-        Target points in the board frame, all with z = 0.
-    image_points : sequence of (M, 2)
+    object_points : (M, 3), or a sequence of (M_i, 3), one per view
+        Target points in the board frame, all with z = 0; per view when each
+        view sees a different part of the board (partial views).
+    image_points : sequence of (M, 2) (or (M_i, 2))
         Their detections in each view (pixels).
     image_size : (width, height)
     """
-    obj = np.asarray(object_points, dtype=float)
-    if obj.ndim != 2 or obj.shape[1] != 3 or np.abs(obj[:, 2]).max() > 1e-9 * max(1.0, np.abs(obj).max()):
-        raise ValueError("init_camera: object_points must be (M, 3) with z = 0 (a planar target)")
-    Hs = [homography(obj[:, :2], np.asarray(p, dtype=float)) for p in image_points]
+    try:
+        shared = np.asarray(object_points, dtype=float)
+    except ValueError:  # ragged: one set per view
+        shared = None
+    if shared is not None and shared.ndim == 2:
+        objs = [shared] * len(image_points)
+    else:
+        objs = list(object_points)
+        if len(objs) != len(image_points):
+            raise ValueError(f"init_camera: {len(objs)} object point sets for {len(image_points)} views")
+    Hs = []
+    for obj, p in zip(objs, image_points):
+        obj = np.asarray(obj, dtype=float)
+        if obj.ndim != 2 or obj.shape[1] != 3 or np.abs(obj[:, 2]).max() > 1e-9 * max(1.0, np.abs(obj).max()):
+            raise ValueError("init_camera: object_points must be (M, 3) with z = 0 (a planar target)")
+        Hs.append(homography(obj[:, :2], np.asarray(p, dtype=float)))
     K = intrinsics_from_homographies(Hs, image_size)
     return K, [pose_from_homography(K, H) for H in Hs]
