@@ -35,6 +35,16 @@ TEST(SO3, QuaternionSignDoesNotChangeLog) {
   EXPECT_LT(a.boxminus(b).norm(), 1e-12);
 }
 
+TEST(SO3, LogAtPiDependsOnTheRotationOnly) {
+  // 180° about z as q and as −q (w = ±0): one rotation, one tangent vector.
+  const SO3 a = SO3::FromQuaternion(Eigen::Vector4d(0, 0, 1, 0));
+  const SO3 b = SO3::FromQuaternion(Eigen::Vector4d(-0.0, -0.0, -1, -0.0));
+  EXPECT_LT((a.Log() - b.Log()).norm(), 1e-15);
+  EXPECT_NEAR(a.Log().norm(), kPi, 1e-15);
+  EXPECT_LT((SO3().boxminus(a) - SO3::FromQuaternion(Eigen::Vector4d(0, 0, 0, -1)).boxminus(a)).norm(),
+            1e-15);
+}
+
 TEST(SO3, GroupIdentities) {
   std::mt19937 rng(2);
   for (int k = 0; k < 200; ++k) {

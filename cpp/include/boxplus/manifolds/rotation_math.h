@@ -74,8 +74,14 @@ template <typename T>
 void QuatLog(const T* q, T* out) {
   using std::atan2;
   using std::sqrt;
-  // Work on the representative with w ≥ 0 so that the angle is in [0, π].
-  const T sign = q[3] < T(0.0) ? T(-1.0) : T(1.0);
+  // Work on the representative with w ≥ 0 so that the angle is in [0, π]. At
+  // exactly π (w = 0) both ±π·axis are valid; the first non-zero vector
+  // component decides, so that the result depends on the rotation only.
+  bool flip = q[3] < T(0.0);
+  if (q[3] == T(0.0)) {
+    flip = q[0] != T(0.0) ? q[0] < T(0.0) : q[1] != T(0.0) ? q[1] < T(0.0) : q[2] < T(0.0);
+  }
+  const T sign = flip ? T(-1.0) : T(1.0);
   const T x = sign * q[0], y = sign * q[1], z = sign * q[2], w = sign * q[3];
   const T s_sq = x * x + y * y + z * z;
   T k;  // out = k [x, y, z]
