@@ -30,8 +30,10 @@ The gauge is fixed by the FIX lines, else by the first vertex.
 
 options:
   -i, --iterations N     maximum number of iterations (default 100)
-  -s, --solver NAME      lm (Levenberg-Marquardt, default), gn (Gauss-Newton:
-                         undamped, the trust region only rejects steps), dogleg
+  -s, --solver NAME      auto (default: dogleg for 2D graphs, lm for 3D, as
+                         measured on the standard data sets), lm
+                         (Levenberg-Marquardt), gn (Gauss-Newton: undamped,
+                         the trust region only rejects steps), dogleg
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
@@ -89,7 +91,7 @@ int ParseInt(const std::string& opt, const char* s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string input, output, solver = "lm", robust = "none", convention = "g2o",
+  std::string input, output, solver = "auto", robust = "none", convention = "g2o",
                             init = "file";
   double width = 1.0;
   int iterations = 100, threads = 1;
@@ -174,8 +176,8 @@ int main(int argc, char** argv) {
     so.method = boxplus::Method::kGaussNewton;
   } else if (solver == "dogleg") {
     so.method = boxplus::Method::kDogleg;
-  } else {
-    UsageError("unknown solver '" + solver + "' (lm, gn or dogleg)");
+  } else if (solver != "auto") {
+    UsageError("unknown solver '" + solver + "' (auto, lm, gn or dogleg)");
   }
   so.max_iterations = iterations;
   so.num_threads = threads;
@@ -196,6 +198,7 @@ int main(int argc, char** argv) {
     }
     boxplus::slam::Initialize(&graph, im);
     const auto t_read = std::chrono::steady_clock::now();
+    if (solver == "auto") so.method = boxplus::slam::DefaultMethod(graph.dimension);
     boxplus::slam::PoseGraph pg(std::move(graph), po);
     const auto t_built = std::chrono::steady_clock::now();
     const double read_s = std::chrono::duration<double>(t_read - t0).count();

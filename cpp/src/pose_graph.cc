@@ -147,6 +147,10 @@ SolverOptions DefaultSolverOptions() {
   return o;
 }
 
+Method DefaultMethod(int dimension) {
+  return dimension == 2 ? Method::kDogleg : Method::kLevenbergMarquardt;
+}
+
 SolveSummary PoseGraph::Solve(const SolverOptions& options) { return problem_.Solve(options); }
 
 double PoseGraph::Chi2(PoseErrorConvention convention) const {

@@ -83,6 +83,15 @@ void RegisterSlam(py::module_& m) {
       "The trust-region settings boxplus uses for pose graphs "
       "(boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.");
 
+  m.def(
+      "pose_graph_default_method",
+      [](int dimension) {
+        return slam::DefaultMethod(dimension) == Method::kDogleg ? "dogleg" : "lm";
+      },
+      py::arg("dimension"),
+      "The measured solver strategy for pose graphs of this dimension "
+      "(boxplus::slam::DefaultMethod): 'dogleg' for 2D, 'lm' for 3D.");
+
   py::class_<PoseGraph>(m, "PoseGraph", R"doc(
 A pose graph read from a g2o/TORO file, as a boxplus Problem.
 

@@ -30,6 +30,7 @@ import numpy as np
 
 from boxplus._core import PoseGraph as _CorePoseGraph
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
+from boxplus._core import pose_graph_default_method as _default_method
 
 from .reference import chi2_g2o, chi2_log, read_g2o_arrays
 
@@ -146,7 +147,7 @@ class SlamProblem:
     # -- solving and results ------------------------------------------------
     def solve(
         self,
-        method: str = "lm",
+        method: str = "auto",
         max_iterations: int = 100,
         num_threads: int = 1,
         verbose: bool = False,
@@ -158,7 +159,9 @@ class SlamProblem:
     ):
         """Solves in place (the C++ solver, GIL released); returns a SolveSummary.
 
-        ``summary.final_cost`` is half the chi2 (Ceres' cost).
+        ``summary.final_cost`` is half the chi2 (Ceres' cost). ``method`` 'auto'
+        is the strategy measured best for the graph's dimension (dogleg for 2D,
+        'lm' for 3D; ``boxplus::slam::DefaultMethod``), else 'lm', 'gn', 'dogleg'.
 
         The trust-region settings default to those measured best on pose
         graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton, λI
@@ -170,6 +173,8 @@ class SlamProblem:
         unknown = set(trust_region) - set(SOLVER_DEFAULTS)
         if unknown:
             raise TypeError(f"solve() got unexpected keyword arguments {sorted(unknown)}")
+        if method == "auto":
+            method = _default_method(self.dimension)
         return self._core.problem.solve(
             **{**SOLVER_DEFAULTS, **trust_region},
             method=method,
