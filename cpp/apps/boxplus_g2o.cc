@@ -40,7 +40,9 @@ options:
   -t, --threads N        threads for Jacobians and linear algebra (default 1)
   -o, --output FILE      write the optimised graph (ids and order kept)
   -c, --convention NAME  pose error: g2o (default; [t, vec(q)] of z⁻¹xᵢ⁻¹xⱼ, as
-                         g2o's EdgeSE2/3) or log (GTSAM's Pose2/Pose3 Logmap)
+                         g2o's EdgeSE2/3), log (GTSAM's Pose2/Pose3 Logmap) or
+                         sesync (alias chordal: SE-Sync's objective
+                         Σ κ‖Rj − Ri R̃ij‖²_F + τ‖tj − ti − Ri t̃ij‖²)
       --init NAME        file (default), spanning-tree, chordal
       --skip-unknown     skip lines with unknown tags (counted in a warning)
       --repair-information
@@ -225,9 +227,10 @@ int main(int argc, char** argv) {
                 s.termination.c_str(), s.iterations, s.time_s, 2.0 * s.initial_cost,
                 2.0 * s.final_cost, robust == "none" ? "no robust kernel" : robust.c_str(),
                 s.message.c_str());
-    std::printf("# final chi2 g2o convention %.10g, log convention %.10g\n",
+    std::printf("# final chi2 g2o convention %.10g, log convention %.10g, sesync %.10g\n",
                 pg.Chi2(boxplus::PoseErrorConvention::kG2o),
-                pg.Chi2(boxplus::PoseErrorConvention::kLog));
+                pg.Chi2(boxplus::PoseErrorConvention::kLog),
+                pg.Chi2(boxplus::PoseErrorConvention::kSESync));
     if (!output.empty()) {
       pg.Save(output);
       std::printf("# wrote %s\n", output.c_str());

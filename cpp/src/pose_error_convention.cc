@@ -9,11 +9,18 @@ PoseErrorConvention ParsePoseErrorConvention(const std::string& name) {
   if (name == "log" || name == "gtsam" || name == "se3log" || name == "se2log") {
     return PoseErrorConvention::kLog;
   }
-  throw Error("unknown pose error convention '" + name + "' (expected 'g2o' or 'log')");
+  if (name == "sesync" || name == "chordal") return PoseErrorConvention::kSESync;
+  throw Error("unknown pose error convention '" + name +
+              "' (expected 'g2o', 'log' or 'sesync')");
 }
 
 const char* ToString(PoseErrorConvention c) {
-  return c == PoseErrorConvention::kG2o ? "g2o" : "log";
+  switch (c) {
+    case PoseErrorConvention::kG2o: return "g2o";
+    case PoseErrorConvention::kLog: return "log";
+    case PoseErrorConvention::kSESync: return "sesync";
+  }
+  return "?";
 }
 
 }  // namespace boxplus

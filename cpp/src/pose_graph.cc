@@ -6,6 +6,7 @@
 #include "boxplus/factors/bearing_range.h"
 #include "boxplus/factors/pose_point.h"
 #include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/factors/relative_pose_sesync.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus::slam {
@@ -44,9 +45,21 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e,
 
 double EdgeChi2(const io::Edge& e, const double* a, const double* b,
                 PoseErrorConvention convention) {
+  const double* z = e.measurement.data();
+  if (convention == PoseErrorConvention::kSESync &&
+      (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3)) {
+    const SESyncPrecisions p = SESyncPrecisionsOf(e.information);
+    double r[12];
+    const int n = e.kind == io::EdgeKind::kSE2 ? 6 : 12;
+    if (n == 6) {
+      RelativePose2DSESyncResidual(a, b, z, p, r);
+    } else {
+      RelativePose3DSESyncResidual(a, b, z, p, r);
+    }
+    return Eigen::Map<const Eigen::VectorXd>(r, n).squaredNorm();
+  }
   const int n = io::ErrorSize(e.kind);
   Eigen::VectorXd err(n);
-  const double* z = e.measurement.data();
   switch (e.kind) {
     case io::EdgeKind::kSE2: RelativePose2DError(a, b, z, err.data(), convention); break;
     case io::EdgeKind::kSE3: RelativePose3DError(a, b, z, convention, err.data()); break;

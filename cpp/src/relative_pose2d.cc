@@ -1,4 +1,5 @@
 #include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/factors/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>
@@ -82,6 +83,7 @@ struct RelativePose2DFunctor {
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z,
                                                         const Eigen::Matrix3d& information,
                                                         PoseErrorConvention convention) {
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, information);
   if (convention == PoseErrorConvention::kLog) {
     return MakeRelativePose2DAutoDiff(z, information, convention);
   }
@@ -93,6 +95,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(
     const Eigen::Vector3d& z, const Eigen::Matrix3d& information,
     PoseErrorConvention convention) {
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, information);
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
   const Eigen::Matrix3d U = SqrtInformationFromInformation(information, "relative pose 2D");
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose2DFunctor, 3, 3, 3>>(

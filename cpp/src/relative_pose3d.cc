@@ -1,4 +1,5 @@
 #include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/factors/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>
@@ -212,6 +213,7 @@ Eigen::Matrix<double, 7, 1> Normalized(const Eigen::Matrix<double, 7, 1>& z) {
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
     const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
     PoseErrorConvention convention) {
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
   const Mat6 U = SqrtInformationFromInformation(information, "relative pose 3D");
   if (convention == PoseErrorConvention::kLog) {
     return std::make_shared<RelativePose3DLogCost>(Normalized(z), U);
@@ -222,6 +224,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
     const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
     PoseErrorConvention convention) {
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
   const Mat6 U = SqrtInformationFromInformation(information, "relative pose 3D");
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose3DFunctor, 6, 7, 7>>(
       new RelativePose3DFunctor{Normalized(z), U, convention});

@@ -194,7 +194,7 @@ symmetric information matrix in the error's order.
             return convention.empty() ? pg.Chi2() : pg.Chi2(ParsePoseErrorConvention(convention));
           },
           py::arg("convention") = "",
-          "Σ eᵀΩe over the graph's edges at the current values ('g2o' or 'log'; "
+          "Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log' or 'sesync'; "
           "default: the graph's convention).")
       .def("poses",
            [](PoseGraph& pg) {

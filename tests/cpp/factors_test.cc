@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include "boxplus/errors.h"
 #include "boxplus/factors/board.h"
 #include "boxplus/factors/disparity.h"
@@ -13,6 +15,9 @@
 #include "boxplus/factors/pinhole.h"
 #include "boxplus/factors/point.h"
 #include "boxplus/factors/relative_pose.h"
+#include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/factors/relative_pose_sesync.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {
@@ -197,6 +202,67 @@ TEST(RelativePoseFactor, JacobiansAndZeroAtTruth) {
   auto f = MakeRelativePoseFactor(b2a.ambient(), W);
   EXPECT_LT(Eval(*f, {{a, true}, {b, true}}).norm(), 1e-12);
   ExpectJacobiansMatch(*MakeRelativePoseFactor(RandomPose(rng), W), {{a, true}, {b, true}});
+}
+
+// SE-Sync's chordal factor: Jacobians, zero at the truth, and ‖r‖² against
+// its definition with τ, κ from Ω (SE-Sync's read_g2o_file).
+TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue3D) {
+  std::mt19937 rng(11);
+  Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Identity();
+  info.topLeftCorner<3, 3>() << 4, 1, 0, 1, 3, 0.5, 0, 0.5, 2;
+  info.bottomRightCorner<3, 3>() << 9, 0, 1, 0, 8, 0, 1, 0, 7;
+  const double tau = 3.0 / info.topLeftCorner<3, 3>().inverse().trace();
+  const double kappa = 3.0 / (2.0 * info.bottomRightCorner<3, 3>().inverse().trace());
+  const SESyncPrecisions p = SESyncPrecisionsOf(info);
+  EXPECT_NEAR(p.tau, tau, 1e-12);
+  EXPECT_NEAR(p.kappa, kappa, 1e-12);
+  const Pose a = RandomPose(rng, 2.0), b = RandomPose(rng, 2.0), z = RandomPose(rng, 2.0);
+  const SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
+  const SE3 Z = SE3::FromAmbient(z.data());
+  auto truth = MakeRelativePose3DSESync((A.inverse() * B).ambient(), info);
+  EXPECT_EQ(truth->num_residuals(), 12);
+  EXPECT_LT(Eval(*truth, {{a, true}, {b, true}}).norm(), 1e-12);
+  auto f = MakeRelativePose3DSESync(z, info);
+  ExpectJacobiansMatch(*f, {{a, true}, {b, true}});
+  const Eigen::Matrix3d Ri = A.rotation().matrix(), Rj = B.rotation().matrix();
+  const Eigen::Matrix3d Rz = Z.rotation().matrix();
+  const Eigen::Vector3d t = B.pos() - A.pos() - Ri * Z.pos();
+  const double expected = kappa * (Rj - Ri * Rz).squaredNorm() + tau * t.squaredNorm();
+  EXPECT_NEAR(Eval(*f, {{a, true}, {b, true}}).squaredNorm(), expected, 1e-10 * expected);
+  // The convention's name selects this factor.
+  EXPECT_EQ(MakeRelativePose3D(z, info, ParsePoseErrorConvention("chordal"))->num_residuals(), 12);
+}
+
+TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
+  std::mt19937 rng(12);
+  std::normal_distribution<double> g;
+  Eigen::Matrix3d info;
+  info << 50, 20, 3, 20, 30, 1, 3, 1, 200;
+  const double tau = 2.0 / info.topLeftCorner<2, 2>().inverse().trace(), kappa = info(2, 2);
+  const auto rot = [](double th) { return Eigen::Rotation2Dd(th).toRotationMatrix(); };
+  for (int trial = 0; trial < 5; ++trial) {
+    Eigen::VectorXd a(3), b(3);
+    a << 3 * g(rng), 3 * g(rng), 3 * g(rng);
+    b << 3 * g(rng), 3 * g(rng), 3 * g(rng);
+    Eigen::Vector3d z(g(rng), g(rng), 3 * g(rng));
+    auto f = MakeRelativePose2DSESync(z, info);
+    EXPECT_EQ(f->num_residuals(), 6);
+    ExpectJacobiansMatch(*f, {{a, false}, {b, false}});
+    const Eigen::Vector2d t = b.head<2>() - a.head<2>() - rot(a[2]) * z.head<2>();
+    const double expected =
+        kappa * (rot(b[2]) - rot(a[2]) * rot(z[2])).squaredNorm() + tau * t.squaredNorm();
+    EXPECT_NEAR(Eval(*f, {{a, false}, {b, false}}).squaredNorm(), expected, 1e-10 * expected);
+    // Zero at the truth: z = a⁻¹b.
+    Eigen::Vector3d zt;
+    zt.head<2>() = rot(a[2]).transpose() * (b.head<2>() - a.head<2>());
+    zt[2] = b[2] - a[2];
+    EXPECT_LT(Eval(*MakeRelativePose2DSESync(zt, info), {{a, false}, {b, false}}).norm(), 1e-12);
+  }
+  EXPECT_EQ(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), info, PoseErrorConvention::kSESync)
+                ->num_residuals(),
+            6);
+  EXPECT_THROW(MakeRelativePose2DSESync(Eigen::Vector3d(1, 0, 0), -info), Error);
+  EXPECT_STREQ(ToString(ParsePoseErrorConvention("sesync")), "sesync");
 }
 
 TEST(PointFactor, Jacobians) {

@@ -54,6 +54,53 @@ def test_numpy_reference_matches_cpp_at_the_file_estimate():
     assert slam.chi2_log(data, data["poses"]) == pytest.approx(g.chi2("log"), rel=1e-12)
 
 
+def _sesync_objective_loop(data, poses):
+    """SE-Sync's f edge by edge, written from its definition (rotation matrices by scipy)."""
+    from scipy.spatial.transform import Rotation
+
+    d = data["dim"]
+    total = 0.0
+    for (i, j), z, info in zip(data["edge_index"], data["z"], data["info"]):
+        if d == 3:
+            Ri, Rj, Rz = (Rotation.from_quat(q).as_matrix() for q in (poses[i, 3:], poses[j, 3:], z[3:]))
+            tau = 3.0 / np.trace(np.linalg.inv(info[:3, :3]))
+            kappa = 3.0 / (2.0 * np.trace(np.linalg.inv(info[3:, 3:])))
+        else:
+            Ri, Rj, Rz = (Rotation.from_euler("z", a).as_matrix()[:2, :2]
+                          for a in (poses[i, 2], poses[j, 2], z[2]))
+            tau = 2.0 / np.trace(np.linalg.inv(info[:2, :2]))
+            kappa = info[2, 2]
+        t = poses[j, :d] - poses[i, :d] - Ri @ z[:d]
+        total += kappa * np.sum((Rj - Ri @ Rz) ** 2) + tau * t @ t
+    return total
+
+
+@pytest.mark.parametrize("name", ["tinyGrid3D", "smallGrid3D", "CSAIL", "MIT"])
+def test_sesync_chi2_matches_the_references_at_the_initial_estimate(name):
+    # The file's estimate, or the spanning tree for CSAIL (no vertices).
+    g = slam.load_g2o(DATA / f"{name}.g2o", convention="sesync")
+    data = slam.read_g2o_arrays(DATA / f"{name}.g2o")
+    poses = g.poses()[[g.vertex_ids.index(i) for i in data["ids"]]]
+    ref = slam.chi2_sesync(data, poses)
+    assert ref == pytest.approx(_sesync_objective_loop(data, poses), rel=1e-12)
+    assert g.chi2() == pytest.approx(ref, rel=1e-12)
+    assert g.chi2("chordal") == pytest.approx(ref, rel=1e-12)
+    assert g.convention == "sesync"
+
+
+def test_sesync_convention_reaches_the_certified_optimum_of_csail():
+    # SE-Sync (Rosen et al., IJRR 2019) certifies f* = 3.170e1 on CSAIL; f is
+    # its tr(Q YᵀY), with no ½ (README, SLAM).
+    g = slam.load_g2o(DATA / "CSAIL.g2o", convention="sesync", init="chordal")
+    s = g.solve(**TIGHT)
+    assert s.usable
+    data = slam.read_g2o_arrays(DATA / "CSAIL.g2o")
+    poses = g.poses()[[g.vertex_ids.index(i) for i in data["ids"]]]
+    f = slam.chi2_sesync(data, poses)
+    assert f == pytest.approx(2 * s.final_cost, rel=1e-9)
+    assert f == pytest.approx(31.70, rel=1e-3)
+
+
 def test_parse_errors_name_file_and_line(tmp_path):
     bad = tmp_path / "bad.g2o"
     bad.write_text("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 x 1 0 0 1 0 1\n")

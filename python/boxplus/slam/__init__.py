@@ -15,10 +15,16 @@ with ``Δ = z⁻¹ (xᵢ⁻¹ xⱼ)``:
 * ``convention="g2o"`` (default): ``e = [t(Δ), vec(q(Δ))]`` with ``w ≥ 0``,
   g2o's ``EdgeSE3``; 2D ``e = [t(Δ), θ(Δ)]`` (g2o and GTSAM alike);
 * ``convention="log"``: ``e = [u, ω]`` from ``(ω, u) = Pose3::Logmap(Δ)``,
-  GTSAM's ``BetweenFactor<Pose3>``.
+  GTSAM's ``BetweenFactor<Pose3>``;
+* ``convention="sesync"`` (alias ``"chordal"``): SE-Sync's objective (Rosen et
+  al., IJRR 2019), residual ``[√τ (tⱼ − tᵢ − Rᵢt̃ᵢⱼ), √κ vec(Rⱼ − RᵢR̃ᵢⱼ)]``
+  with isotropic precisions τ, κ from Ω as SE-Sync's ``read_g2o_file``
+  computes them (``factors/relative_pose_sesync.h``); its chi2 is SE-Sync's
+  ``f`` (``chi2_sesync``).
 
 The objective is ``chi2 = Σ eᵀΩe`` with the file's information matrices Ω
-(twice Ceres' cost, twice GTSAM's ``graph.error``).
+(twice Ceres' cost, twice GTSAM's ``graph.error``); ``Σ‖r‖²`` in the sesync
+convention.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from boxplus._core import PoseGraph as _CorePoseGraph
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
 from boxplus._core import pose_graph_default_method as _default_method
 
-from .reference import chi2_g2o, chi2_log, read_g2o_arrays
+from .reference import chi2_g2o, chi2_log, chi2_sesync, read_g2o_arrays
 
 __all__ = [
     "SOLVER_DEFAULTS",
@@ -42,6 +48,7 @@ __all__ = [
     "plot_trajectory",
     "chi2_g2o",
     "chi2_log",
+    "chi2_sesync",
     "read_g2o_arrays",
 ]
 
@@ -188,7 +195,7 @@ class SlamProblem:
         )
 
     def chi2(self, convention: Optional[str] = None) -> float:
-        """``Σ eᵀΩe`` at the current values ('g2o' or 'log'; default: the graph's)."""
+        """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
         return self._core.chi2(convention or "")
 
     def poses(self) -> np.ndarray:
@@ -228,8 +235,8 @@ def load_g2o(
 
     Parameters
     ----------
-    convention : {'g2o', 'log'}
-        3D relative-pose error (module docstring).
+    convention : {'g2o', 'log', 'sesync'}
+        Relative-pose error (module docstring); 'chordal' is 'sesync'.
     robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
     robust_width : float
         Kernel width on ``sqrt(eᵀΩe)``.

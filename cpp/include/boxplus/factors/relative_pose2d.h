@@ -10,7 +10,9 @@
 // [x, y, θ] (as g2o files store it); ½‖r‖² = ½ eᵀΩe, so Σ‖r‖² is g2o's chi2.
 // Blocks: x_i (3), x_j (3). kG2o: analytic Jacobians (tested against
 // autodiff and central differences; SE2's ⊞ has an identity Jacobian, so
-// ambient and tangent Jacobians coincide); kLog: autodiff.
+// ambient and tangent Jacobians coincide); kLog: autodiff. kSESync is not an
+// error of Δ: the factories return MakeRelativePose2DSESync (6 residuals,
+// relative_pose_sesync.h), and RelativePose2DError gives the g2o error for it.
 #pragma once
 
 #include <memory>

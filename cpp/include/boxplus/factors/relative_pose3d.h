@@ -22,6 +22,9 @@
 // Jacobian J_t (6×6) is returned in ambient form J_t·4Qᵀ for the rotation
 // columns, Q = ∂(q⊗exp(δ))/∂δ (4×3, QᵀQ = I/4), so that Ceres' product with
 // the manifold's PlusJacobian gives back exactly J_t. kLog uses autodiff.
+// kSESync is not an error of Δ: the factories return MakeRelativePose3DSESync
+// (12 residuals, relative_pose_sesync.h); RelativePose3DError does not
+// implement it.
 #pragma once
 
 #include <memory>

@@ -7,6 +7,8 @@
 //   EDGE_SE2 / EDGE2            → MakeRelativePose2D (factors/relative_pose2d.h)
 //   EDGE_SE3:QUAT / EDGE3       → MakeRelativePose3D in the chosen convention
 //                                 (g2o's, or GTSAM's SE(3)-log; relative_pose3d.h)
+//   both, convention kSESync    → MakeRelativePose2D/3DSESync (SE-Sync's chordal
+//                                 objective; factors/relative_pose_sesync.h)
 //   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakePosePoint2D/3D (factors/pose_point.h)
 //   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/bearing_range.h)
 // optionally wrapped in a robust loss ρ with a width (Huber, Cauchy, ...).
@@ -41,7 +43,8 @@ std::shared_ptr<ceres::LossFunction> MakeRobustLoss(const std::string& name, dou
 std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
                                                   PoseErrorConvention convention);
 
-// eᵀΩe of one edge at the given vertex values (ambient layouts as above).
+// eᵀΩe of one edge at the given vertex values (ambient layouts as above); for
+// pose edges in the kSESync convention, ‖r‖² (the edge's term of SE-Sync's f).
 double EdgeChi2(const io::Edge& edge, const double* from, const double* to,
                 PoseErrorConvention convention);
 

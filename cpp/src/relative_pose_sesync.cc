@@ -1,0 +1,71 @@
+#include "boxplus/factors/relative_pose_sesync.h"
+
+#include <ceres/autodiff_cost_function.h>
+
+#include <Eigen/LU>
+
+#include "boxplus/errors.h"
+#include "boxplus/noise.h"
+
+namespace boxplus {
+namespace {
+
+struct SESync2DFunctor {
+  template <typename T>
+  bool operator()(const T* xi, const T* xj, T* r) const {
+    RelativePose2DSESyncResidual(xi, xj, z.data(), p, r);
+    return true;
+  }
+  Eigen::Vector3d z;
+  SESyncPrecisions p;
+};
+
+struct SESync3DFunctor {
+  template <typename T>
+  bool operator()(const T* xi, const T* xj, T* r) const {
+    RelativePose3DSESyncResidual(xi, xj, z.data(), p, r);
+    return true;
+  }
+  Eigen::Matrix<double, 7, 1> z;
+  SESyncPrecisions p;
+};
+
+}  // namespace
+
+SESyncPrecisions SESyncPrecisionsOf(const Eigen::MatrixXd& information) {
+  const int n = static_cast<int>(information.rows());
+  BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: information must be 3×3 or 6×6, got ",
+                information.rows(), "×", information.cols());
+  SqrtInformationFromInformation(information, "relative pose (SE-Sync)");  // SPD check
+  const int d = n == 3 ? 2 : 3;
+  const Eigen::MatrixXd Ot = information.topLeftCorner(d, d);
+  SESyncPrecisions p;
+  p.tau = d / Ot.inverse().trace();
+  if (d == 2) {
+    p.kappa = information(2, 2);
+  } else {
+    const Eigen::Matrix3d OR = information.bottomRightCorner<3, 3>();
+    p.kappa = 3.0 / (2.0 * OR.inverse().trace());
+  }
+  return p;
+}
+
+std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vector3d& z,
+                                                              const Eigen::Matrix3d& information) {
+  BOXPLUS_CHECK(z.allFinite(), "relative pose 2D (SE-Sync): measurement must be finite");
+  return std::make_shared<ceres::AutoDiffCostFunction<SESync2DFunctor, 6, 3, 3>>(
+      new SESync2DFunctor{z, SESyncPrecisionsOf(information)});
+}
+
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
+    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information) {
+  BOXPLUS_CHECK(z.allFinite(), "relative pose 3D (SE-Sync): measurement must be finite");
+  const double n = z.tail<4>().norm();
+  BOXPLUS_CHECK(n > 1e-12, "relative pose 3D (SE-Sync): measured quaternion has zero norm");
+  Eigen::Matrix<double, 7, 1> zn = z;
+  zn.tail<4>() /= n;
+  return std::make_shared<ceres::AutoDiffCostFunction<SESync3DFunctor, 12, 7, 7>>(
+      new SESync3DFunctor{zn, SESyncPrecisionsOf(information)});
+}
+
+}  // namespace boxplus
