@@ -295,3 +295,21 @@ TEST(DisparityFactor, JacobiansAndValue) {
 
 }  // namespace
 }  // namespace boxplus
+
+namespace boxplus {
+namespace {
+
+// The Δ-error templates cover g2o and log only; sesync has its own residual.
+TEST(RelativePoseError, RejectsTheSESyncConvention) {
+  const double x2[3] = {0, 0, 0}, z2[3] = {1, 0, 0};
+  double e2[3];
+  EXPECT_THROW(RelativePose2DError(x2, x2, z2, e2, PoseErrorConvention::kSESync), Error);
+  const double x3[7] = {0, 0, 0, 0, 0, 0, 1}, z3[7] = {1, 0, 0, 0, 0, 0, 1};
+  double e3[6];
+  EXPECT_THROW(RelativePose3DError(x3, x3, z3, PoseErrorConvention::kSESync, e3), Error);
+  RelativePose3DError(x3, x3, z3, PoseErrorConvention::kG2o, e3);
+  EXPECT_DOUBLE_EQ(e3[0], -1.0);
+}
+
+}  // namespace
+}  // namespace boxplus

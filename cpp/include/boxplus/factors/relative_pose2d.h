@@ -12,7 +12,7 @@
 // autodiff and central differences; SE2's ⊞ has an identity Jacobian, so
 // ambient and tangent Jacobians coincide); kLog: autodiff. kSESync is not an
 // error of Δ: the factories return MakeRelativePose2DSESync (6 residuals,
-// relative_pose_sesync.h), and RelativePose2DError gives the g2o error for it.
+// relative_pose_sesync.h), and RelativePose2DError rejects it.
 #pragma once
 
 #include <memory>
@@ -22,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/errors.h"
 #include "boxplus/manifolds/rotation_math.h"
 
 namespace boxplus {
@@ -30,6 +31,10 @@ namespace boxplus {
 template <typename T>
 void RelativePose2DError(const T* xi, const T* xj, const double* z, T* e,
                          PoseErrorConvention convention = PoseErrorConvention::kG2o) {
+  // SE-Sync's objective is not an error of Δ (relative_pose_sesync.h).
+  BOXPLUS_CHECK(convention != PoseErrorConvention::kSESync,
+                "RelativePose2DError: the sesync convention has its own residual "
+                "(relative_pose_sesync.h)");
   using std::cos;
   using std::sin;
   const T ci = cos(xi[2]), si = sin(xi[2]);

@@ -23,8 +23,8 @@
 // columns, Q = ∂(q⊗exp(δ))/∂δ (4×3, QᵀQ = I/4), so that Ceres' product with
 // the manifold's PlusJacobian gives back exactly J_t. kLog uses autodiff.
 // kSESync is not an error of Δ: the factories return MakeRelativePose3DSESync
-// (12 residuals, relative_pose_sesync.h); RelativePose3DError does not
-// implement it.
+// (12 residuals, relative_pose_sesync.h); RelativePose3DError rejects
+// it.
 #pragma once
 
 #include <memory>
@@ -35,6 +35,7 @@
 #include <Eigen/Core>
 
 #include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/errors.h"
 #include "boxplus/manifolds/rotation_math.h"
 
 namespace boxplus {
@@ -58,6 +59,10 @@ void RelativePose3DDelta(const T* xi, const T* xj, const double* z, T* t_delta,
 template <typename T>
 void RelativePose3DError(const T* xi, const T* xj, const double* z,
                          PoseErrorConvention convention, T* e) {
+  // SE-Sync's objective is not an error of Δ (relative_pose_sesync.h).
+  BOXPLUS_CHECK(convention != PoseErrorConvention::kSESync,
+                "RelativePose3DError: the sesync convention has its own residual "
+                "(relative_pose_sesync.h)");
   T t[3], q[4];
   RelativePose3DDelta(xi, xj, z, t, q);
   if (convention == PoseErrorConvention::kG2o) {
