@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -33,7 +34,9 @@ options:
   -s, --solver NAME      auto (default: dogleg for 2D graphs, lm for 3D, as
                          measured on the standard data sets), lm
                          (Levenberg-Marquardt), gn (Gauss-Newton: undamped,
-                         the trust region only rejects steps), dogleg
+                         the trust region only rejects steps), gn-ls
+                         (Gauss-Newton with a backtracking line search;
+                         single-threaded), dogleg
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
@@ -91,6 +94,19 @@ int ParseInt(const std::string& opt, const char* s) {
 }
 
 }  // namespace
+
+// Resident memory in MB from /proc/self/status (Linux; −1 elsewhere): "VmRSS"
+// now, or "VmHWM" its peak. getrusage's ru_maxrss is no use here: after exec it
+// keeps the peak of the process that forked this one (a Python benchmark).
+double MemoryMB(const char* field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(status, line)) {
+    if (line.compare(0, key.size(), key) == 0) return std::atof(line.c_str() + key.size()) / 1024.0;
+  }
+  return -1.0;
+}
 
 int main(int argc, char** argv) {
   std::string input, output, solver = "auto", robust = "none", convention = "g2o",
@@ -178,13 +194,16 @@ int main(int argc, char** argv) {
     so.method = boxplus::Method::kGaussNewton;
   } else if (solver == "dogleg") {
     so.method = boxplus::Method::kDogleg;
+  } else if (solver == "gn-ls" || solver == "gn_ls") {
+    so.method = boxplus::Method::kGaussNewtonLineSearch;
   } else if (solver != "auto") {
-    UsageError("unknown solver '" + solver + "' (auto, lm, gn or dogleg)");
+    UsageError("unknown solver '" + solver + "' (auto, lm, gn, gn-ls or dogleg)");
   }
   so.max_iterations = iterations;
   so.num_threads = threads;
 
   try {
+    const double rss_before = MemoryMB("VmRSS");
     const auto t0 = std::chrono::steady_clock::now();
     boxplus::io::ReadReport report;
     boxplus::io::Graph graph = boxplus::io::ReadG2o(input, read, &report);
@@ -211,11 +230,14 @@ int main(int argc, char** argv) {
     std::printf("# initial chi2 %.10g (convention %s, init %s)\n", pg.Chi2(),
                 boxplus::ToString(po.convention), init.c_str());
     if (!quiet) {
-      so.on_iteration = [](const boxplus::IterationInfo& it) {
+      // The line search reports its step length α where the trust region
+      // reports its radius.
+      const char* radius = so.method == boxplus::Method::kGaussNewtonLineSearch ? "alpha" : "radius";
+      so.on_iteration = [radius](const boxplus::IterationInfo& it) {
         std::printf("iteration= %d\t chi2= %.10g\t time= %.6f\t cumTime= %.6f\t "
-                    "|grad|= %.3e\t |step|= %.3e\t radius= %.3e%s\n",
+                    "|grad|= %.3e\t |step|= %.3e\t %s= %.3e%s\n",
                     it.iteration, 2.0 * it.cost, it.iteration_time_s, it.cumulative_time_s,
-                    it.gradient_max_norm, it.step_norm, it.trust_region_radius,
+                    it.gradient_max_norm, it.step_norm, radius, it.trust_region_radius,
                     it.step_is_successful ? "" : "\t (rejected)");
         std::fflush(stdout);
         return true;
@@ -231,6 +253,8 @@ int main(int argc, char** argv) {
                 pg.Chi2(boxplus::PoseErrorConvention::kG2o),
                 pg.Chi2(boxplus::PoseErrorConvention::kLog),
                 pg.Chi2(boxplus::PoseErrorConvention::kSESync));
+    std::printf("# memory: peak RSS %.1f MB, %.1f MB before reading the input\n",
+                MemoryMB("VmHWM"), rss_before);
     if (!output.empty()) {
       pg.Save(output);
       std::printf("# wrote %s\n", output.c_str());

@@ -11,6 +11,7 @@
 #include <ceres/solver.h>
 
 #include "boxplus/errors.h"
+#include "gauss_newton_line_search.h"
 
 namespace boxplus {
 
@@ -238,6 +239,7 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
     out.usable = true;
     return out;
   }
+  if (options.method == Method::kGaussNewtonLineSearch) return SolveByLineSearch(options);
   ceres::Solver::Options o;
   o.minimizer_type = ceres::TRUST_REGION;
   o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -268,6 +270,8 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
       o.initial_trust_region_radius = 1e16;
       o.max_trust_region_radius = 1e16;
       break;
+    case Method::kGaussNewtonLineSearch:
+      break;  // solved by SolveByLineSearch
   }
   o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
   o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
@@ -324,6 +328,18 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
     out.final_cost = std::min(out.final_cost, out.initial_cost);
   }
   return out;
+}
+
+SolveSummary Problem::SolveByLineSearch(const SolverOptions& options) {
+  std::vector<internal::LsqBlock> blocks;
+  blocks.reserve(vars_.size());
+  for (const auto& v : vars_) blocks.push_back({v->data.get(), v->manifold.get(), v->fixed});
+  std::vector<internal::LsqTerm> terms;
+  terms.reserve(meas_.size());
+  for (const Measurement& m : meas_) terms.push_back({m.cost.get(), m.loss.get(), m.vars});
+  return internal::SolveGaussNewtonLineSearch(
+      blocks, terms, options,
+      [this](bool jacobians) { hooks_->PrepareForEvaluation(jacobians, true); });
 }
 
 Eigen::VectorXd Problem::Residual(int measurement_id) {

@@ -19,7 +19,9 @@ Method ParseMethod(const std::string& name) {
   if (name == "lm" || name == "levenberg_marquardt") return Method::kLevenbergMarquardt;
   if (name == "gn" || name == "gauss_newton") return Method::kGaussNewton;
   if (name == "dogleg") return Method::kDogleg;
-  throw py::value_error("unknown method '" + name + "' (expected 'lm', 'gn' or 'dogleg')");
+  if (name == "gn_ls" || name == "gn-ls") return Method::kGaussNewtonLineSearch;
+  throw py::value_error("unknown method '" + name +
+                        "' (expected 'lm', 'gn', 'gn_ls' or 'dogleg')");
 }
 
 py::dict InfoToDict(const IterationInfo& i) {
@@ -200,9 +202,11 @@ Minimises ½ Σ ρ(‖rᵢ‖²) with ⊞ steps.
 
 Parameters
 ----------
-method : {'lm', 'gn', 'dogleg'}
+method : {'lm', 'gn', 'gn_ls', 'dogleg'}
     Levenberg–Marquardt, Gauss–Newton (undamped, steps that raise the cost are
-    rejected), or Powell's dogleg.
+    rejected), Gauss–Newton with a backtracking line search (boxplus' own:
+    single-threaded, robust losses by reweighting; the trust-region options do
+    not apply), or Powell's dogleg.
 initial_trust_region_radius : float
     Ceres' initial radius μ₀ (LM solves (JᵀJ + D/μ) δ = −Jᵀr); a huge value
     (1e16) starts like Gauss–Newton and damps only after a failed step.

@@ -836,8 +836,10 @@ class OptimizationProblem:
 
         Parameters
         ----------
-        method : {'lm', 'gn', 'dogleg'}
-            Levenberg–Marquardt (default), Gauss–Newton or Powell's dogleg.
+        method : {'lm', 'gn', 'gn_ls', 'dogleg'}
+            Levenberg–Marquardt (default), Gauss–Newton (trust region: a step
+            that raises the cost is rejected), Gauss–Newton with a backtracking
+            line search along x ⊞ αδ, or Powell's dogleg.
         verbose : bool
             Print one line per iteration (cost, change, gradient, step, time).
         callback : callable, optional

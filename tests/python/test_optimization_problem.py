@@ -211,7 +211,7 @@ def test_residuals_and_rms_are_grouped_by_function():
 # ---- solver options, losses, mixing ----------------------------------------------------
 
 
-@pytest.mark.parametrize("method", ["lm", "gn", "dogleg"])
+@pytest.mark.parametrize("method", ["lm", "gn", "gn_ls", "dogleg"])
 def test_methods_reach_the_same_optimum(method):
     p = bp.OptimizationProblem()
     x = p.add_random_var(bp.SO3())
@@ -223,7 +223,8 @@ def test_methods_reach_the_same_optimum(method):
     assert np.linalg.norm(p[x] - centre) < 1e-6
 
 
-def test_huber_loss_limits_an_outlier():
+@pytest.mark.parametrize("method", ["lm", "gn_ls"])
+def test_huber_loss_limits_an_outlier(method):
     zs = [0.0, 0.1, -0.1, 0.05, 10.0]  # the last is an outlier
 
     def mean(loss):
@@ -231,7 +232,7 @@ def test_huber_loss_limits_an_outlier():
         x = p.add_random_var(bp.Rn(1))
         for z in zs:
             p.add_measurement([z], lambda v: v.vec, [x], sigma=0.1, loss=loss)
-        p.solve()
+        p.solve(method=method)
         return p[x].vec[0]
 
     assert mean(None) == pytest.approx(np.mean(zs), abs=1e-6)
@@ -271,7 +272,8 @@ def test_add_measurement_validates_inputs():
         p.add_measurements(np.zeros((3, 2)), lambda v: v.vec[:, :1], [[x]] * 3)
 
 
-def test_exception_inside_f_reaches_the_caller_with_its_traceback():
+@pytest.mark.parametrize("method", ["lm", "gn_ls"])
+def test_exception_inside_f_reaches_the_caller_with_its_traceback(method):
     calls = []
 
     def flaky(v):
@@ -284,7 +286,7 @@ def test_exception_inside_f_reaches_the_caller_with_its_traceback():
     x = p.add_random_var(bp.Rn([1.0, 2.0]))
     p.add_measurement([0.0, 0.0], flaky, [x])
     with pytest.raises(ZeroDivisionError, match="deep inside the model") as info:
-        p.solve()
+        p.solve(method=method)
     frames = [f.name for f in traceback.extract_tb(info.value.__traceback__)]
     assert "flaky" in frames
 
@@ -301,7 +303,8 @@ def test_non_finite_residual_stops_the_solve_naming_measurement_and_values():
             p.solve()
 
 
-def test_keyboard_interrupt_returns_the_best_estimate_so_far():
+@pytest.mark.parametrize("method", ["lm", "gn_ls"])
+def test_keyboard_interrupt_returns_the_best_estimate_so_far(method):
     calls = []
 
     def slow(v):
@@ -314,7 +317,8 @@ def test_keyboard_interrupt_returns_the_best_estimate_so_far():
     x = p.add_random_var(bp.Rn([3.0]))
     p.add_measurement([1.0], slow, [x])
     initial = p.cost()
-    r = p.solve(max_iterations=1000, function_tolerance=0, gradient_tolerance=0, parameter_tolerance=0)
+    r = p.solve(method=method, max_iterations=1000, function_tolerance=0, gradient_tolerance=0,
+                parameter_tolerance=0)
     assert r.termination == "interrupted" and r.usable
     assert 0 < p.cost() < initial
 

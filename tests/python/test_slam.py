@@ -47,6 +47,19 @@ def test_reaches_the_best_peer_objective(name, convention):
     assert ref <= PEER_BEST[name][convention] * (1 + 1e-6)
 
 
+@pytest.mark.parametrize("name", ["tinyGrid3D", "smallGrid3D", "CSAIL"])
+@pytest.mark.parametrize("convention", ["g2o", "log"])
+def test_line_search_gauss_newton_reaches_the_best_peer_objective(name, convention):
+    g = slam.load_g2o(DATA / f"{name}.g2o", convention=convention)
+    data = slam.read_g2o_arrays(DATA / f"{name}.g2o")
+    s = g.solve(method="gn_ls", **TIGHT)
+    assert s.usable and s.termination == "convergence", s.report
+    poses = g.poses()[[g.vertex_ids.index(i) for i in data["ids"]]]
+    ref = slam.chi2_g2o(data, poses) if convention == "g2o" else slam.chi2_log(data, poses)
+    assert ref == pytest.approx(2 * s.final_cost, rel=1e-9)
+    assert ref <= PEER_BEST[name][convention] * (1 + 1e-6)
+
+
 def test_numpy_reference_matches_cpp_at_the_file_estimate():
     g = slam.load_g2o(DATA / "smallGrid3D.g2o")
     data = slam.read_g2o_arrays(DATA / "smallGrid3D.g2o")
@@ -241,6 +254,12 @@ def test_cli_trust_region_options():
         assert r.returncode == 0, r.stderr
         chi2 = float(r.stdout.split("final chi2 g2o convention ")[1].split(",")[0])
         assert chi2 <= PEER_BEST["smallGrid3D"]["g2o"] * (1 + 1e-6)
+    r = subprocess.run([_cli(), "-s", "gn-ls", str(DATA / "smallGrid3D.g2o")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "\t alpha= " in r.stdout  # the line search reports its step length
+    chi2 = float(r.stdout.split("final chi2 g2o convention ")[1].split(",")[0])
+    assert chi2 <= PEER_BEST["smallGrid3D"]["g2o"] * (1 + 1e-6)
     for bad in (["--damping", "magic"], ["--initial-radius", "0"], ["--nonmonotonic", "-1"]):
         r = subprocess.run([_cli(), *bad, str(DATA / "tinyGrid3D.g2o")], capture_output=True,
                            text=True)

@@ -28,7 +28,12 @@ class Problem;
 
 namespace boxplus {
 
-enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg };
+// Levenberg–Marquardt, Gauss–Newton and Powell's dogleg are Ceres' trust-region
+// minimisers (kGaussNewton: undamped steps, a failed step only shrinks the
+// region). kGaussNewtonLineSearch is boxplus' own Gauss–Newton with a
+// backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, CHOLMOD
+// Cholesky; single-threaded; robust losses by reweighting).
+enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg, kGaussNewtonLineSearch };
 
 // The damping matrix D of a Levenberg–Marquardt step (JᵀJ + D/μ) δ = −Jᵀr,
 // μ the trust-region radius:
@@ -44,7 +49,7 @@ struct IterationInfo {
   double cost_change = 0.0;
   double gradient_max_norm = 0.0;
   double step_norm = 0.0;
-  double trust_region_radius = 0.0;
+  double trust_region_radius = 0.0;  // line search: the step length α taken
   double iteration_time_s = 0.0;
   double cumulative_time_s = 0.0;
   bool step_is_successful = false;
@@ -161,6 +166,7 @@ class Problem {
   class HookDispatcher;
   void CheckVariable(int id) const;
   void CheckMeasurement(int id) const;
+  SolveSummary SolveByLineSearch(const SolverOptions& options);
 
   std::unique_ptr<HookDispatcher> hooks_;
   std::unique_ptr<ceres::Problem> problem_;

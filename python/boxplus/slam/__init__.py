@@ -168,7 +168,8 @@ class SlamProblem:
 
         ``summary.final_cost`` is half the chi2 (Ceres' cost). ``method`` 'auto'
         is the strategy measured best for the graph's dimension (dogleg for 2D,
-        'lm' for 3D; ``boxplus::slam::DefaultMethod``), else 'lm', 'gn', 'dogleg'.
+        'lm' for 3D; ``boxplus::slam::DefaultMethod``), else 'lm', 'gn', 'gn_ls'
+        (Gauss–Newton with a line search), 'dogleg'.
 
         The trust-region settings default to those measured best on pose
         graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton, λI

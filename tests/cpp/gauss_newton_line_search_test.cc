@@ -1,0 +1,207 @@
+// Tests of boxplus' Gauss–Newton with a backtracking line search
+// (Method::kGaussNewtonLineSearch): the same optima as Ceres' trust-region
+// solvers, a line search that really backtracks, robust losses, gauge
+// freedom, fixed and unused variables, interruption and evaluation failures.
+#include <cmath>
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/loss_function.h>
+#include <gtest/gtest.h>
+
+#include "boxplus/boxplus.h"
+#include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/slam/initialization.h"
+#include "boxplus/slam/pose_graph.h"
+
+namespace boxplus {
+namespace {
+
+const std::string kData = std::string(BOXPLUS_SOURCE_DIR) + "/tests/data/";
+
+SolverOptions LineSearch() {
+  SolverOptions o;
+  o.method = Method::kGaussNewtonLineSearch;
+  return o;
+}
+
+// A pose graph solved by the line search and by Levenberg–Marquardt ends at
+// the same objective and the same poses.
+TEST(GaussNewtonLineSearch, PoseGraphsReachTheTrustRegionOptimum) {
+  for (const char* file : {"tinyGrid3D.g2o", "smallGrid3D.g2o", "CSAIL.g2o"}) {
+    for (auto conv : {PoseErrorConvention::kG2o, PoseErrorConvention::kLog}) {
+      slam::PoseGraphOptions po;
+      po.convention = conv;
+      io::Graph graph = io::ReadG2o(kData + file);
+      if (!graph.estimates_from_file) slam::Initialize(&graph, slam::InitMethod::kSpanningTree);
+      slam::PoseGraph ls(graph, po);
+      slam::PoseGraph lm(graph, po);
+      SolverOptions o = LineSearch();
+      o.function_tolerance = 1e-14;
+      const SolveSummary s = ls.Solve(o);
+      ASSERT_TRUE(s.usable) << file << "\n" << s.report;
+      SolverOptions t = slam::DefaultSolverOptions();
+      t.function_tolerance = 1e-14;
+      ASSERT_TRUE(lm.Solve(t).usable);
+      EXPECT_NEAR(ls.Chi2(), lm.Chi2(), 1e-8 * lm.Chi2()) << file << " " << ToString(conv);
+      EXPECT_NEAR(2 * s.final_cost, ls.Chi2(), 1e-9 * ls.Chi2()) << file;
+      for (int v = 0; v < ls.problem().num_variables(); ++v) {
+        const auto& m = ls.problem().manifold(v);
+        Eigen::VectorXd d(m.TangentSize());
+        ASSERT_TRUE(m.Minus(ls.problem().value(v), lm.problem().value(v), d.data()));
+        EXPECT_LT(d.norm(), 1e-5) << file << " variable " << v;
+      }
+    }
+  }
+}
+
+// r(x) = atan(x): from x = 3 the full Gauss–Newton step (−r/r') overshoots to
+// |x| > 3 where |r| is larger; only a shortened step decreases the cost.
+struct Atan {
+  template <typename T>
+  bool operator()(const T* x, T* r) const {
+    r[0] = atan(x[0]);
+    return true;
+  }
+};
+
+TEST(GaussNewtonLineSearch, BacktracksWhenTheFullStepOvershoots) {
+  Problem p;
+  const double x0 = 3.0;
+  const int x = p.AddVariable(MakeManifold("Rn", 1), &x0, "x");
+  p.AddMeasurement(std::make_shared<ceres::AutoDiffCostFunction<Atan, 1, 1>>(new Atan), {x});
+  SolverOptions o = LineSearch();
+  double shortest = 1.0;
+  o.on_iteration = [&shortest](const IterationInfo& i) {
+    if (i.iteration > 0) shortest = std::min(shortest, i.trust_region_radius);
+    return true;
+  };
+  const SolveSummary s = p.Solve(o);
+  ASSERT_TRUE(s.usable) << s.report;
+  EXPECT_EQ(s.termination, "convergence") << s.message;
+  EXPECT_LT(shortest, 1.0);  // at least one step was halved
+  EXPECT_LT(std::abs(p.value(x)[0]), 1e-6);
+  EXPECT_LT(s.final_cost, s.initial_cost);
+}
+
+// A robust loss: the line search minimises ½ Σ ρ(‖r‖²) (the gradient is
+// exact), so it ends where Levenberg–Marquardt does.
+struct Offset {
+  double z;
+  template <typename T>
+  bool operator()(const T* x, T* r) const {
+    r[0] = x[0] - T(z);
+    r[1] = x[1] - T(2 * z);
+    return true;
+  }
+};
+
+TEST(GaussNewtonLineSearch, RobustLossSameMinimumAsLevenbergMarquardt) {
+  const double data[] = {0.1, -0.2, 0.05, 0.15, -0.1, 8.0, 9.0};  // two outliers
+  double cost[2];
+  Eigen::Vector2d sol[2];
+  for (int k = 0; k < 2; ++k) {
+    Problem p;
+    const double x0[2] = {3.0, -1.0};
+    const int x = p.AddVariable(MakeManifold("Rn", 2), x0);
+    for (double z : data) {
+      p.AddMeasurement(
+          std::make_shared<ceres::AutoDiffCostFunction<Offset, 2, 2>>(new Offset{z}), {x},
+          std::make_shared<ceres::CauchyLoss>(0.5));
+    }
+    SolverOptions o = k == 0 ? LineSearch() : SolverOptions();
+    o.function_tolerance = o.gradient_tolerance = o.parameter_tolerance = 1e-15;
+    const SolveSummary s = p.Solve(o);
+    ASSERT_TRUE(s.usable) << s.report;
+    cost[k] = s.final_cost;
+    sol[k] = Eigen::Map<const Eigen::Vector2d>(p.value(x));
+  }
+  EXPECT_NEAR(cost[0], cost[1], 1e-10 * cost[1]);
+  EXPECT_LT((sol[0] - sol[1]).norm(), 1e-6);
+  EXPECT_LT(std::abs(sol[0][0]), 0.2);  // the outliers do not drag the estimate
+}
+
+// No gauge fixed: JᵀJ is singular along the common motion of both poses; the
+// step is regularised and the residual still goes to zero.
+TEST(GaussNewtonLineSearch, SingularNormalEquationsAreRegularised) {
+  Problem p;
+  const SE2 a(Eigen::Vector2d(0, 0), 0.0), b(Eigen::Vector2d(3, 1), 1.0);
+  const int xa = p.AddVariable(MakeManifold("SE2"), a.data(), "a");
+  const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
+  const Eigen::Vector3d z(1.0, 0.5, 0.2);
+  p.AddMeasurement(MakeRelativePose2D(z, Eigen::Matrix3d::Identity(), PoseErrorConvention::kG2o),
+                   {xa, xb});
+  const SolveSummary s = p.Solve(LineSearch());
+  ASSERT_TRUE(s.usable) << s.report;
+  EXPECT_LT(p.Cost(), 1e-12);
+}
+
+TEST(GaussNewtonLineSearch, FixedAndUnusedVariablesDoNotMove) {
+  Problem p;
+  const SE2 a(Eigen::Vector2d(1, 1), 0.5), b(Eigen::Vector2d(2, 0), 0.1), c(Eigen::Vector2d(7, 7), 2.0);
+  const int xa = p.AddVariable(MakeManifold("SE2"), a.data(), "a");
+  const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
+  const int xc = p.AddVariable(MakeManifold("SE2"), c.data(), "unused");
+  p.SetFixed(xa);
+  p.AddMeasurement(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), Eigen::Matrix3d::Identity(),
+                                      PoseErrorConvention::kG2o),
+                   {xa, xb});
+  const SolveSummary s = p.Solve(LineSearch());
+  ASSERT_TRUE(s.usable) << s.report;
+  EXPECT_EQ(SE2::FromAmbient(p.value(xa)).boxminus(a).norm(), 0.0);
+  EXPECT_EQ(SE2::FromAmbient(p.value(xc)).boxminus(c).norm(), 0.0);
+  EXPECT_LT(p.Cost(), 1e-12);
+}
+
+TEST(GaussNewtonLineSearch, CallbackStopsAtAnAcceptedPoint) {
+  slam::PoseGraph pg(io::ReadG2o(kData + "smallGrid3D.g2o"));
+  SolverOptions o = LineSearch();
+  double reported = 0.0;
+  o.on_iteration = [&reported](const IterationInfo& i) {
+    reported = i.cost;
+    return i.iteration < 2;
+  };
+  const SolveSummary s = pg.Solve(o);
+  EXPECT_EQ(s.termination, "interrupted");
+  EXPECT_TRUE(s.usable);
+  EXPECT_EQ(s.iterations, 2);
+  EXPECT_NEAR(pg.problem().Cost(), reported, 1e-9 * reported);
+  EXPECT_LT(reported, s.initial_cost);
+}
+
+// A measurement that cannot be evaluated away from the start: trial points
+// there are rejected and the estimate stays at the last evaluable point.
+struct OnlyNearZero {
+  template <typename T>
+  bool operator()(const T* x, T* r) const {
+    r[0] = x[0] - T(5.0);
+    return abs(x[0]) < T(1.0);
+  }
+};
+
+TEST(GaussNewtonLineSearch, FailedEvaluationsShortenTheStep) {
+  Problem p;
+  const double x0 = 0.0;
+  const int x = p.AddVariable(MakeManifold("Rn", 1), &x0);
+  p.AddMeasurement(
+      std::make_shared<ceres::AutoDiffCostFunction<OnlyNearZero, 1, 1>>(new OnlyNearZero), {x});
+  const SolveSummary s = p.Solve(LineSearch());
+  EXPECT_TRUE(s.usable) << s.report;
+  EXPECT_GT(p.value(x)[0], 0.5);  // moved towards 5 as far as it can be evaluated
+  EXPECT_LT(p.value(x)[0], 1.0);
+  EXPECT_NEAR(p.Cost(), s.final_cost, 1e-12);
+}
+
+TEST(GaussNewtonLineSearch, UnevaluableStartFails) {
+  Problem p;
+  const double x0 = 3.0;
+  const int x = p.AddVariable(MakeManifold("Rn", 1), &x0);
+  p.AddMeasurement(
+      std::make_shared<ceres::AutoDiffCostFunction<OnlyNearZero, 1, 1>>(new OnlyNearZero), {x});
+  const SolveSummary s = p.Solve(LineSearch());
+  EXPECT_EQ(s.termination, "failure");
+  EXPECT_FALSE(s.usable);
+  EXPECT_EQ(p.value(x)[0], 3.0);
+}
+
+}  // namespace
+}  // namespace boxplus
