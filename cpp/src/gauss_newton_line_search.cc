@@ -370,7 +370,6 @@ class GaussNewtonLineSearch {
       analyse_time_ += Seconds(t0);
       t0 = Clock::now();
     }
-    const double scale = std::max(1.0, H_.diagonal().cwiseAbs().maxCoeff());
     double shift = 0.0;
     for (int attempt = 0; attempt < 8; ++attempt) {
       if (llt_.Factorise(H_, shift)) {
@@ -378,7 +377,9 @@ class GaussNewtonLineSearch {
         solve_time_ += Seconds(t0);
         if (delta->allFinite()) return true;
       }
-      shift = shift == 0.0 ? 1e-12 * scale : shift * 100.0;
+      // Only a failed factorisation pays for the scan of the diagonal.
+      shift = shift == 0.0 ? 1e-12 * std::max(1.0, H_.diagonal().cwiseAbs().maxCoeff())
+                           : shift * 100.0;
     }
     solve_time_ += Seconds(t0);
     return false;

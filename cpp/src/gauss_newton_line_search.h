@@ -3,11 +3,11 @@
 // Ceres 2.1's line-search minimiser only offers gradient methods (BFGS,
 // L-BFGS, nonlinear CG), so Gauss–Newton with a line search is written here,
 // as g2o and GTSAM structure their solvers: the normal equations JᵀJ δ = −Jᵀr
-// are assembled block by block into a sparse matrix whose pattern is fixed
-// once, factorised by CHOLMOD's Cholesky (symbolic analysis once, numeric
-// factorisation each iteration; simplicial or supernodal as CHOLMOD judges
-// from the fill), and the step x ⊞ αδ is halved until
-// the cost decreases by at least 10⁻⁴·α·|gᵀδ|. Robust losses enter as
+// are assembled block by block into a sparse matrix whose pattern (in an AMD
+// order of the variable graph) is fixed once, factorised by a sparse Cholesky
+// (symbolic analysis once, numeric factorisation each iteration: Eigen's
+// simplicial LDLᵀ, or CHOLMOD's supernodal LLᵀ when the factor fills in), and
+// the step x ⊞ αδ is halved until the cost decreases by at least 10⁻⁴·α·|gᵀδ|. Robust losses enter as
 // iteratively reweighted least squares (weight ρ'(‖r‖²)); the gradient is
 // exact, so the direction is always a descent direction.
 //

@@ -31,8 +31,8 @@ namespace boxplus {
 // Levenberg–Marquardt, Gauss–Newton and Powell's dogleg are Ceres' trust-region
 // minimisers (kGaussNewton: undamped steps, a failed step only shrinks the
 // region). kGaussNewtonLineSearch is boxplus' own Gauss–Newton with a
-// backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, CHOLMOD
-// Cholesky; single-threaded; robust losses by reweighting).
+// backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, sparse
+// Cholesky by Eigen or CHOLMOD; single-threaded; robust losses by reweighting).
 enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg, kGaussNewtonLineSearch };
 
 // The damping matrix D of a Levenberg–Marquardt step (JᵀJ + D/μ) δ = −Jᵀr,
