@@ -24,7 +24,7 @@ def main() -> None:
     pose = problem.add_variable(bp.SE3.manifold(), bp.SE3().ambient, "cam_to_world")
     for i in range(20):
         z = truth + rng.normal(0.0, sigma)
-        problem.add_prior(pose, z.ambient, np.diag(1.0 / sigma), name=f"obs{i}")
+        problem.add_prior(pose, z.ambient, bp.NoiseModel.sigmas(sigma), name=f"obs{i}")
 
     summary = problem.solve(verbose=False)
     est = bp.SE3.from_ambient(problem.value(pose))

@@ -26,7 +26,7 @@ std::shared_ptr<ceres::CostFunction> MakeBearingRange2D(const Eigen::Vector2d& z
                                                         const Eigen::Matrix2d& information) {
   BOXPLUS_CHECK(z.allFinite() && z[1] >= 0.0,
                 "bearing-range: measurement must be finite with a range >= 0");
-  const Eigen::Matrix2d U = SqrtInformationFromInformation(information, "bearing-range");
+  const Eigen::Matrix2d U = NoiseModel::Information(information, "bearing-range").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<BearingRangeFunctor, 2, 3, 2>>(
       new BearingRangeFunctor{z, U});
 }

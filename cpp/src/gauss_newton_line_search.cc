@@ -1,5 +1,7 @@
 #include "gauss_newton_line_search.h"
 
+#include "boxplus/progress.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -387,11 +389,8 @@ class GaussNewtonLineSearch {
 
   void Report(const IterationInfo& info) {
     if (options_.verbose) {
-      std::fprintf(stderr,
-                   "iter %4d  cost %.10e  change %+.3e  |grad| %.3e  |step| %.3e  alpha %.2e  "
-                   "%7.3f s\n",
-                   info.iteration, info.cost, -info.cost_change, info.gradient_max_norm,
-                   info.step_norm, info.trust_region_radius, info.cumulative_time_s);
+      if (info.iteration == 0) std::fprintf(stderr, "%s\n", ProgressHeader().c_str());
+      std::fprintf(stderr, "%s\n", FormatProgress(info).c_str());
     }
     if (options_.on_iteration && !options_.on_iteration(info)) interrupted_ = true;
   }
@@ -415,7 +414,8 @@ class GaussNewtonLineSearch {
     IterationInfo info;
     info.cost = cost;
     info.gradient_max_norm = g_.lpNorm<Eigen::Infinity>();
-    info.trust_region_radius = 1.0;
+    info.trust_region_radius = 0.0;  // no trust region: FormatProgress shows α
+    info.step_length = 1.0;
     info.step_is_successful = true;
     info.cumulative_time_s = info.iteration_time_s = Seconds(start_);
     Report(info);
@@ -469,7 +469,8 @@ class GaussNewtonLineSearch {
       info.cost_change = old_cost - cost;
       info.gradient_max_norm = g_.lpNorm<Eigen::Infinity>();
       info.step_norm = step_norm;
-      info.trust_region_radius = alpha;  // the step length taken
+      info.trust_region_radius = 0.0;
+      info.step_length = alpha;
       info.iteration_time_s = Seconds(t_it);
       info.cumulative_time_s = Seconds(start_);
       info.step_is_successful = true;

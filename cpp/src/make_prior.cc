@@ -43,14 +43,14 @@ class RnPrior final : public ceres::CostFunction {
 
 std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
                                                const Eigen::VectorXd& z,
-                                               const Eigen::MatrixXd& W,
+                                               const NoiseModel& noise,
                                                const std::string& what) {
+  const Eigen::MatrixXd& W = noise.sqrt_information();
   const int a = manifold.AmbientSize(), t = manifold.TangentSize();
   BOXPLUS_CHECK(z.size() == a, what, ": the observed value has ", z.size(),
                 " ambient coordinates, the variable ", a);
-  BOXPLUS_CHECK(W.rows() == t && W.cols() == t, what,
-                ": the noise matrix must be ", t, "×", t, ", got ", W.rows(),
-                "×", W.cols());
+  BOXPLUS_CHECK(noise.dim() == t, what, ": noise of dimension ", noise.dim(),
+                " for a variable with ", t, " degrees of freedom");
   if (dynamic_cast<const RnManifold*>(&manifold)) {
     return std::make_shared<RnPrior>(z, W);
   }

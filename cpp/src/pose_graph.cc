@@ -1,5 +1,7 @@
 #include "boxplus/slam/pose_graph.h"
 
+#include "boxplus/loss.h"
+
 #include <cmath>
 
 #include "boxplus/errors.h"
@@ -10,19 +12,6 @@
 #include "boxplus/manifolds.h"
 
 namespace boxplus::slam {
-
-std::shared_ptr<ceres::LossFunction> MakeRobustLoss(const std::string& name, double width) {
-  if (name.empty() || name == "none") return nullptr;
-  BOXPLUS_CHECK(std::isfinite(width) && width > 0.0, "robust kernel '", name,
-                "': the width must be positive, got ", width);
-  if (name == "huber") return std::make_shared<ceres::HuberLoss>(width);
-  if (name == "cauchy") return std::make_shared<ceres::CauchyLoss>(width);
-  if (name == "tukey") return std::make_shared<ceres::TukeyLoss>(width);
-  if (name == "arctan") return std::make_shared<ceres::ArctanLoss>(width);
-  if (name == "softl1") return std::make_shared<ceres::SoftLOneLoss>(width);
-  throw Error("unknown robust kernel '" + name +
-              "' (expected none, huber, cauchy, tukey, arctan or softl1)");
-}
 
 std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e,
                                                   PoseErrorConvention convention) {
@@ -92,7 +81,7 @@ std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
 
 PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
     : graph_(std::move(graph)), options_(options) {
-  loss_ = MakeRobustLoss(options_.robust, options_.robust_width);
+  loss_ = MakeLoss(options_.robust, options_.robust_width);
   var_of_vertex_.reserve(graph_.vertices.size());
   for (const io::Vertex& v : graph_.vertices) {
     var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),

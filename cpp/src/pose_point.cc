@@ -30,7 +30,7 @@ struct PosePointFunctor {
 std::shared_ptr<ceres::CostFunction> MakePosePoint2D(const Eigen::Vector2d& z,
                                                      const Eigen::Matrix2d& information) {
   BOXPLUS_CHECK(z.allFinite(), "pose-point 2D: measurement must be finite");
-  const Eigen::Matrix2d U = SqrtInformationFromInformation(information, "pose-point 2D");
+  const Eigen::Matrix2d U = NoiseModel::Information(information, "pose-point 2D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<PosePointFunctor<2>, 2, 3, 2>>(
       new PosePointFunctor<2>{z, U});
 }
@@ -38,7 +38,7 @@ std::shared_ptr<ceres::CostFunction> MakePosePoint2D(const Eigen::Vector2d& z,
 std::shared_ptr<ceres::CostFunction> MakePosePoint3D(const Eigen::Vector3d& z,
                                                      const Eigen::Matrix3d& information) {
   BOXPLUS_CHECK(z.allFinite(), "pose-point 3D: measurement must be finite");
-  const Eigen::Matrix3d U = SqrtInformationFromInformation(information, "pose-point 3D");
+  const Eigen::Matrix3d U = NoiseModel::Information(information, "pose-point 3D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<PosePointFunctor<3>, 3, 7, 3>>(
       new PosePointFunctor<3>{z, U});
 }

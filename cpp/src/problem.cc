@@ -11,6 +11,7 @@
 #include <ceres/solver.h>
 
 #include "boxplus/errors.h"
+#include "boxplus/progress.h"
 #include "gauss_newton_line_search.h"
 
 namespace boxplus {
@@ -26,6 +27,7 @@ struct Problem::Measurement {
   std::shared_ptr<ceres::CostFunction> cost;
   std::shared_ptr<ceres::LossFunction> loss;
   std::vector<int> vars;
+  NoiseModel noise;
   std::string name;
   ceres::ResidualBlockId block = nullptr;
 };
@@ -73,12 +75,8 @@ class CallbackAdapter final : public ceres::IterationCallback {
     info.cumulative_time_s = s.cumulative_time_in_seconds;
     info.step_is_successful = s.step_is_successful;
     if (options_.verbose) {
-      std::fprintf(stderr,
-                   "iter %4d  cost %.10e  change %+.3e  |grad| %.3e  "
-                   "|step| %.3e  radius %.2e  %7.3f s\n",
-                   s.iteration, s.cost, -s.cost_change, s.gradient_max_norm,
-                   s.step_norm, s.trust_region_radius,
-                   s.cumulative_time_in_seconds);
+      if (s.iteration == 0) std::fprintf(stderr, "%s\n", ProgressHeader().c_str());
+      std::fprintf(stderr, "%s\n", FormatProgress(info).c_str());
     }
     if (options_.on_iteration && !options_.on_iteration(info)) {
       *interrupted_ = true;
@@ -146,10 +144,6 @@ const double* Problem::value(int id) const {
   CheckVariable(id);
   return vars_[id]->data.get();
 }
-double* Problem::mutable_value(int id) {
-  CheckVariable(id);
-  return vars_[id]->data.get();
-}
 void Problem::SetValue(int id, const double* ambient) {
   CheckVariable(id);
   const int n = vars_[id]->manifold->AmbientSize();
@@ -174,7 +168,7 @@ bool Problem::IsFixed(int id) const {
 }
 
 int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
-                            const std::vector<int>& var_ids,
+                            const std::vector<int>& var_ids, const NoiseModel& noise,
                             std::shared_ptr<ceres::LossFunction> loss,
                             const std::string& name) {
   const int id = num_measurements();
@@ -186,6 +180,9 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                 sizes.size(), " variables but ", var_ids.size(),
                 " were given");
   BOXPLUS_CHECK(cost->num_residuals() > 0, what, ": has no residuals");
+  BOXPLUS_CHECK(noise.dim() == 0 || cost->num_residuals() % noise.dim() == 0, what,
+                ": noise of dimension ", noise.dim(), " for ", cost->num_residuals(),
+                " residuals");
   std::vector<double*> blocks;
   std::set<int> seen;
   for (size_t k = 0; k < var_ids.size(); ++k) {
@@ -204,6 +201,7 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
   m.cost = std::move(cost);
   m.loss = std::move(loss);
   m.vars = var_ids;
+  m.noise = noise;
   m.name = name.empty() ? "z" + std::to_string(id) : name;
   m.block = problem_->AddResidualBlock(m.cost.get(), m.loss.get(), blocks);
   meas_.push_back(std::move(m));
@@ -225,13 +223,17 @@ int Problem::residual_size(int id) const {
   return meas_[id].cost->num_residuals();
 }
 
+const NoiseModel& Problem::noise(int id) const {
+  CheckMeasurement(id);
+  return meas_[id].noise;
+}
+
 void Problem::AddEvaluationHook(EvaluationHook hook) {
   hooks_->hooks.push_back(std::move(hook));
 }
 
 SolveSummary Problem::Solve(const SolverOptions& options) {
-  BOXPLUS_CHECK(options.max_iterations >= 0, "max_iterations must be >= 0");
-  BOXPLUS_CHECK(options.num_threads >= 1, "num_threads must be >= 1");
+  Validate(options);
   SolveSummary out;
   if (num_measurements() == 0) {
     out.termination = "convergence";
@@ -352,6 +354,12 @@ Eigen::VectorXd Problem::Residual(int measurement_id) {
   BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), r.data(), nullptr),
                 "measurement '", m.name, "': evaluation failed");
   return r;
+}
+
+Eigen::VectorXd Problem::Error(int measurement_id) {
+  Eigen::VectorXd r = Residual(measurement_id);
+  const NoiseModel& noise = meas_[measurement_id].noise;
+  return noise.dim() == 0 ? r : noise.Unwhiten(r);
 }
 
 double Problem::Cost() {

@@ -88,7 +88,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z
     return MakeRelativePose2DAutoDiff(z, information, convention);
   }
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  const Eigen::Matrix3d U = SqrtInformationFromInformation(information, "relative pose 2D");
+  const Eigen::Matrix3d U = NoiseModel::Information(information, "relative pose 2D").sqrt_information();
   return std::make_shared<RelativePose2DCost>(z, U);
 }
 
@@ -97,7 +97,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(
     PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, information);
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  const Eigen::Matrix3d U = SqrtInformationFromInformation(information, "relative pose 2D");
+  const Eigen::Matrix3d U = NoiseModel::Information(information, "relative pose 2D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose2DFunctor, 3, 3, 3>>(
       new RelativePose2DFunctor{z, U, convention});
 }

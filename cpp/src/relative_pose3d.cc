@@ -214,7 +214,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
     const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
     PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
-  const Mat6 U = SqrtInformationFromInformation(information, "relative pose 3D");
+  const Mat6 U = NoiseModel::Information(information, "relative pose 3D").sqrt_information();
   if (convention == PoseErrorConvention::kLog) {
     return std::make_shared<RelativePose3DLogCost>(Normalized(z), U);
   }
@@ -225,7 +225,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
     const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
     PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
-  const Mat6 U = SqrtInformationFromInformation(information, "relative pose 3D");
+  const Mat6 U = NoiseModel::Information(information, "relative pose 3D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose3DFunctor, 6, 7, 7>>(
       new RelativePose3DFunctor{Normalized(z), U, convention});
 }

@@ -36,7 +36,7 @@ SESyncPrecisions SESyncPrecisionsOf(const Eigen::MatrixXd& information) {
   const int n = static_cast<int>(information.rows());
   BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: information must be 3×3 or 6×6, got ",
                 information.rows(), "×", information.cols());
-  SqrtInformationFromInformation(information, "relative pose (SE-Sync)");  // SPD check
+  NoiseModel::Information(information, "relative pose (SE-Sync)").sqrt_information();  // SPD check
   const int d = n == 3 ? 2 : 3;
   const Eigen::MatrixXd Ot = information.topLeftCorner(d, d);
   SESyncPrecisions p;

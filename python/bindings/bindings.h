@@ -7,6 +7,7 @@
 namespace boxplus::python {
 
 void RegisterErrors(pybind11::module_& m);
+void RegisterNoise(pybind11::module_& m);
 void RegisterManifolds(pybind11::module_& m);
 void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);

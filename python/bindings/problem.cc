@@ -111,15 +111,21 @@ The public, friendlier front is boxplus.OptimizationProblem.
       .def("is_fixed", &Problem::IsFixed, py::arg("id"))
       .def(
           "add_prior",
-          [](Problem& p, int id, const Eigen::VectorXd& z, const Eigen::MatrixXd& sqrt_info,
+          [](Problem& p, int id, const Eigen::VectorXd& z, const NoiseModel& noise,
              const std::string& name, const LossHandle* loss) {
             const std::string what = "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
-            return p.AddMeasurement(MakePrior(p.manifold(id), z, sqrt_info, what), {id},
+            return p.AddMeasurement(MakePrior(p.manifold(id), z, noise, what), {id}, noise,
                                     loss ? loss->loss : nullptr, name);
           },
-          py::arg("id"), py::arg("z"), py::arg("sqrt_info"), py::arg("name") = "",
+          py::arg("id"), py::arg("z"), py::arg("noise"), py::arg("name") = "",
           py::arg("loss") = nullptr,
-          "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W = L⁻¹.")
+          "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.")
+      .def("noise", &Problem::noise, py::arg("measurement_id"),
+           "The noise model a measurement whitens with.")
+      .def("error",
+           [](Problem& p, int id) { return RaisingPython([&] { return p.Error(id); }); },
+           py::arg("measurement_id"),
+           "Un-whitened error e = W⁻¹ r of one measurement, in its own units.")
       .def(
           "solve",
           [](Problem& p, const std::string& method, int max_iterations, double function_tolerance,

@@ -16,6 +16,7 @@
 
 #include "bindings.h"
 #include "boxplus/cached_cost.h"
+#include "boxplus/loss.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 #include "pending_error.h"
@@ -181,28 +182,15 @@ class PythonManifold final : public ceres::Manifold {
   py::object plus_, minus_;
 };
 
-LossHandle MakeLoss(const std::string& name, double width) {
-  if (!(width > 0) || !std::isfinite(width)) {
-    throw py::value_error("loss '" + name + "': width must be positive and finite");
-  }
-  std::shared_ptr<ceres::LossFunction> l;
-  if (name == "huber") l = std::make_shared<ceres::HuberLoss>(width);
-  else if (name == "cauchy") l = std::make_shared<ceres::CauchyLoss>(width);
-  else if (name == "soft_l1") l = std::make_shared<ceres::SoftLOneLoss>(width);
-  else if (name == "arctan") l = std::make_shared<ceres::ArctanLoss>(width);
-  else if (name == "tukey") l = std::make_shared<ceres::TukeyLoss>(width);
-  else if (name == "trivial" || name == "none") l = nullptr;
-  else
-    throw py::value_error("unknown loss '" + name +
-                          "' (expected huber, cauchy, soft_l1, arctan, tukey or none)");
-  return LossHandle{l, name + "(" + std::to_string(width) + ")"};
+LossHandle MakeLossHandle(const std::string& name, double width) {
+  return LossHandle{MakeLoss(name, width), CanonicalLossName(name) + "(" + std::to_string(width) + ")"};
 }
 
 }  // namespace
 
 void RegisterPythonMeasurements(py::module_& m) {
   py::class_<LossHandle>(m, "Loss", "A robust loss ρ applied to ‖r‖² of one measurement.")
-      .def(py::init(&MakeLoss), py::arg("name"), py::arg("width") = 1.0,
+      .def(py::init(&MakeLossHandle), py::arg("name"), py::arg("width") = 1.0,
            "name: huber, cauchy, soft_l1, arctan, tukey or none; width: where it "
            "departs from least squares (in whitened units, i.e. standard deviations).")
       .def("__repr__", [](const LossHandle& l) { return "Loss(" + l.description + ")"; });

@@ -17,6 +17,7 @@ from boxplus._core import (
     BoxplusIndexError,
     Loss,
     Manifold,
+    NoiseModel,
     ParseError,
     Problem,
     SolveSummary,
@@ -37,7 +38,7 @@ from boxplus.manifolds import (
     make_compound,
 )
 from boxplus.problem import EvaluationError, OptimizationProblem, SolveResult
-from boxplus import batch
+from boxplus import batch, noise
 
 __all__ = [
     "S2",
@@ -52,6 +53,7 @@ __all__ = [
     "Loss",
     "Manifold",
     "ManifoldValue",
+    "NoiseModel",
     "OptimizationProblem",
     "ParseError",
     "Problem",
@@ -60,6 +62,7 @@ __all__ = [
     "SolveSummary",
     "__version__",
     "batch",
+    "noise",
     "codec_of",
     "make_compound",
     "make_manifold",

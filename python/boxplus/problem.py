@@ -621,7 +621,9 @@ class OptimizationProblem:
         if codec_of_or_none(z) is not codec:
             raise TypeError(f"{what}: z must be a {codec.name}, got {type(z).__name__}")
         W = _sqrt_info(sigma, codec.dof, what)
-        mid = self._core.add_prior(int(vid), codec.to_ambient(z), W, name or "", _make_loss(loss, what))
+        noise = _core.NoiseModel.sqrt_information(W, what)
+        mid = self._core.add_prior(int(vid), codec.to_ambient(z), noise, name or "",
+                                   _make_loss(loss, what))
         self._meas_group[mid] = "prior"
         return mid
 

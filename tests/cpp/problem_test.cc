@@ -66,8 +66,8 @@ TEST(Problem, AveragingPosesMatchesClosedForm) {
     ws.push_back(1.0 / (sigma * sigma));
     weighted_pos += ws.back() * zs.back().pos();
     wsum += ws.back();
-    const Eigen::MatrixXd W = SqrtInformationFromCovariance(
-        Eigen::MatrixXd::Identity(6, 6) * sigma * sigma, "z");
+    const Eigen::MatrixXd W = NoiseModel::Covariance(
+        Eigen::MatrixXd::Identity(6, 6) * sigma * sigma, "z").sqrt_information();
     p.AddMeasurement(PriorFunctor<SE3Ops>::Create(zs.back().ambient(), W), {x});
   }
   const SolveSummary s = p.Solve(Tight());
@@ -118,7 +118,7 @@ TEST(Problem, BadInputRaisesNamedErrors) {
   EXPECT_THROW(p.value(3), IndexError);
   Eigen::MatrixXd bad(2, 2);
   bad << 1, 2, 2, 1;  // symmetric, indefinite
-  EXPECT_THROW(SqrtInformationFromCovariance(bad, "z"), Error);
+  EXPECT_THROW(NoiseModel::Covariance(bad, "z"), Error);
   const double nan[4] = {0, 0, 0, std::nan("")};
   EXPECT_THROW(p.AddVariable(MakeManifold("SO3"), nan), Error);
 }

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/factors/bearing_range.h"
+#include "boxplus/loss.h"
 #include "boxplus/factors/pose_point.h"
 #include "boxplus/factors/relative_pose2d.h"
 #include "boxplus/factors/relative_pose3d.h"
@@ -233,11 +234,11 @@ TEST(PoseGraph, LandmarksAndFixLines) {
 
 TEST(PoseGraph, RobustKernelsByName) {
   for (const char* k : {"huber", "cauchy", "tukey", "arctan", "softl1"}) {
-    EXPECT_NE(slam::MakeRobustLoss(k, 1.0), nullptr);
+    EXPECT_NE(MakeLoss(k, 1.0), nullptr);
   }
-  EXPECT_EQ(slam::MakeRobustLoss("none", 1.0), nullptr);
-  EXPECT_THROW(slam::MakeRobustLoss("huber", 0.0), Error);
-  EXPECT_THROW(slam::MakeRobustLoss("bogus", 1.0), Error);
+  EXPECT_EQ(MakeLoss("none", 1.0), nullptr);
+  EXPECT_THROW(MakeLoss("huber", 0.0), Error);
+  EXPECT_THROW(MakeLoss("bogus", 1.0), Error);
 }
 
 // A noise-free 3D graph (a ring with chords): both initialisations must give

@@ -145,11 +145,13 @@ class SlamProblem:
 
     def add_prior(self, vertex_id: int, value, information) -> int:
         """Adds a prior ``U (x ⊟ z)`` with ``UᵀU = information`` (tangent order)."""
+        from boxplus.noise import noise_model
+
+        vid = self._core.variable(vertex_id)
         info = np.asarray(information, float)
-        sqrt_info = np.linalg.cholesky(info).T  # upper U with UᵀU = Ω
-        return self._core.problem.add_prior(
-            self._core.variable(vertex_id), np.asarray(value, float), sqrt_info
-        )
+        noise = noise_model(info.shape[0] if info.ndim == 2 else -1, information=info,
+                            what=f"prior on vertex {vertex_id}")
+        return self._core.problem.add_prior(vid, np.asarray(value, float), noise)
 
     # -- solving and results ------------------------------------------------
     def solve(

@@ -34,11 +34,6 @@
 
 namespace boxplus::slam {
 
-// "none" (null), "huber", "cauchy", "tukey", "arctan", "softl1" with width
-// δ > 0 (the residual norm √(eᵀΩe) where the kernel leaves the quadratic,
-// as g2o's robust-kernel width); throws on an unknown name.
-std::shared_ptr<ceres::LossFunction> MakeRobustLoss(const std::string& name, double width);
-
 // Cost function of one edge.
 std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
                                                   PoseErrorConvention convention);

@@ -1,0 +1,92 @@
+// Solver settings, the per-iteration record and the result of a solve: one
+// vocabulary for boxplus::Problem, the pose graph, the command line and the
+// Python module (bound as classes there), with one parser for each name.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace boxplus {
+
+// Levenberg–Marquardt, Gauss–Newton and Powell's dogleg are Ceres' trust-region
+// minimisers (kGaussNewton: undamped steps, a failed step only shrinks the
+// region). kGaussNewtonLineSearch is boxplus' own Gauss–Newton with a
+// backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, sparse
+// Cholesky by Eigen or CHOLMOD; single-threaded; robust losses by reweighting).
+enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg, kGaussNewtonLineSearch };
+
+// The damping matrix D of a Levenberg–Marquardt step (JᵀJ + D/μ) δ = −Jᵀr,
+// μ the trust-region radius:
+//   kMarquardt  D = diag(JᵀJ), clamped to [1e-6, 1e32] (Ceres' default);
+//   kLevenberg  D = I, i.e. λI damping with λ = 1/μ (g2o's LM); with
+//               jacobi_scaling the identity is in the scaled coordinates.
+enum class Damping { kMarquardt, kLevenberg };
+
+// What the per-iteration callback sees.
+struct IterationInfo {
+  int iteration = 0;
+  double cost = 0.0;  // ½ Σ ρ(‖r‖²)
+  double cost_change = 0.0;
+  double gradient_max_norm = 0.0;
+  double step_norm = 0.0;
+  double trust_region_radius = 0.0;  // trust-region methods; 0 for the line search
+  double step_length = 1.0;          // the line search's α (1 for trust regions)
+  double iteration_time_s = 0.0;
+  double cumulative_time_s = 0.0;
+  bool step_is_successful = false;
+};
+
+struct SolverOptions {
+  Method method = Method::kLevenbergMarquardt;
+  int max_iterations = 100;
+  double function_tolerance = 1e-10;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-10;
+  int num_threads = 1;
+  // Trust-region strategy (Levenberg–Marquardt and Gauss–Newton; see Ceres'
+  // Solver::Options). A very large initial radius starts like Gauss–Newton
+  // and damps only after a step fails (each failure divides the radius by a
+  // factor that doubles on consecutive failures; a success grows it).
+  double initial_trust_region_radius = 1e4;
+  Damping damping = Damping::kMarquardt;
+  // Scale the columns of J by 1/(1 + ‖J_k‖) before solving.
+  bool jacobi_scaling = true;
+  // Accept steps that increase the cost while the best cost seen in the last
+  // few steps still decreases enough (Ceres' use_nonmonotonic_steps).
+  bool use_nonmonotonic_steps = false;
+  int max_consecutive_nonmonotonic_steps = 5;
+  // Print one line per iteration (FormatProgress, progress.h) to stderr.
+  bool verbose = false;
+  // Called after every iteration; return false to stop early (Ctrl-C). The
+  // estimate is then the last accepted one.
+  std::function<bool(const IterationInfo&)> on_iteration;
+};
+
+struct SolveSummary {
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  int iterations = 0;
+  double time_s = 0.0;
+  std::string termination;  // "convergence", "no_convergence", "interrupted", "failure"
+  std::string message;      // Ceres' own explanation
+  bool usable = false;      // the estimate may be used (converged or stopped early)
+  std::string report;       // Ceres' full report
+};
+
+// Names on input (case-insensitive): "lm" / "levenberg_marquardt", "gn" /
+// "gauss_newton", "gn_ls" / "gn-ls", "dogleg". Throws boxplus::Error naming
+// the accepted ones.
+Method ParseMethod(const std::string& name);
+// "lm", "gn", "gn_ls", "dogleg".
+std::string MethodName(Method method);
+const std::vector<std::string>& MethodNames();
+
+// "marquardt" or "levenberg"; throws boxplus::Error otherwise.
+Damping ParseDamping(const std::string& name);
+std::string DampingName(Damping damping);
+
+// Checks every field (ranges, finiteness); throws boxplus::Error naming it.
+void Validate(const SolverOptions& options);
+
+}  // namespace boxplus
