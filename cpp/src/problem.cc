@@ -12,7 +12,7 @@
 
 #include "boxplus/errors.h"
 #include "boxplus/progress.h"
-#include "gauss_newton_line_search.h"
+#include "solver/gauss_newton_line_search.h"
 
 namespace boxplus {
 

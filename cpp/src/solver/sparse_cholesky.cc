@@ -1,0 +1,85 @@
+#include "sparse_cholesky.h"
+
+#include <algorithm>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+
+namespace boxplus::internal {
+
+struct SparseCholesky::Factors {
+  Eigen::SimplicialLDLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> simplicial;
+  Eigen::CholmodSupernodalLLT<Matrix, Eigen::Upper> cholmod;
+};
+
+SparseCholesky::SparseCholesky() : factors_(std::make_unique<Factors>()) {}
+SparseCholesky::~SparseCholesky() = default;
+
+std::vector<int> CholeskyColumnCounts(const Eigen::SparseMatrix<double>& upper) {
+  const int n = static_cast<int>(upper.cols());
+  std::vector<int> parent(n, -1), mark(n, -1), counts(n, 0);
+  for (int k = 0; k < n; ++k) {
+    // Row k of L is the union of the paths in the elimination tree from each
+    // i < k with Hᵢₖ ≠ 0 up to k; k becomes the parent of the paths' roots.
+    mark[k] = k;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(upper, k); it; ++it) {
+      int i = static_cast<int>(it.index());
+      if (i >= k) continue;
+      for (; mark[i] != k; i = parent[i]) {
+        if (parent[i] == -1) parent[i] = k;
+        ++counts[i];
+        mark[i] = k;
+      }
+    }
+  }
+  return counts;
+}
+
+double FillMeasure(const std::vector<int>& column_counts) {
+  double squares = 0.0, total = 0.0;
+  for (int c : column_counts) {
+    squares += static_cast<double>(c) * c;
+    total += c;
+  }
+  return total > 0 ? squares / total : 0.0;
+}
+
+void SparseCholesky::Analyse(const Matrix& H) {
+  supernodal_ = FillMeasure(CholeskyColumnCounts(H)) > kSupernodalSwitch;
+  if (supernodal_) {
+    factors_->cholmod.analyzePattern(H);
+  } else {
+    factors_->simplicial.analyzePattern(H);
+  }
+}
+
+bool SparseCholesky::Factorise(const Matrix& H, double shift) {
+  if (supernodal_) {
+    factors_->cholmod.setShift(shift);
+    factors_->cholmod.factorize(H);
+    return factors_->cholmod.info() == Eigen::Success;
+  }
+  factors_->simplicial.setShift(shift);
+  factors_->simplicial.factorize(H);
+  return factors_->simplicial.info() == Eigen::Success;
+}
+
+bool SparseCholesky::Solve(const Matrix& H, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  double shift = 0.0;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    if (Factorise(H, shift)) {
+      if (supernodal_) {
+        *x = factors_->cholmod.solve(b);
+      } else {
+        *x = factors_->simplicial.solve(b);
+      }
+      if (x->allFinite()) return true;
+    }
+    // Only a failed factorisation pays for the scan of the diagonal.
+    shift = shift == 0.0 ? 1e-12 * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff())
+                         : shift * 100.0;
+  }
+  return false;
+}
+
+}  // namespace boxplus::internal
