@@ -1,17 +1,18 @@
 #include "boxplus/problem.h"
 
 #include <algorithm>
-#include <cstdio>
+#include <cmath>
+#include <limits>
 #include <set>
 
 #include <ceres/covariance.h>
+#include <ceres/crs_matrix.h>
 #include <ceres/evaluation_callback.h>
-#include <ceres/iteration_callback.h>
 #include <ceres/problem.h>
-#include <ceres/solver.h>
 
 #include "boxplus/errors.h"
-#include "boxplus/progress.h"
+#include "manifold_domain.h"
+#include "solver/ceres_trust_region.h"
 #include "solver/gauss_newton_line_search.h"
 
 namespace boxplus {
@@ -21,6 +22,8 @@ struct Problem::Variable {
   std::unique_ptr<double[]> data;  // stable address: Ceres keeps the pointer
   std::string name;
   bool fixed = false;
+  bool euclidean = false;  // Ceres gets no manifold (x ⊞ δ = x + δ)
+  int num_measurements = 0;
 };
 
 struct Problem::Measurement {
@@ -55,44 +58,40 @@ ceres::Problem::Options NonOwningOptions(ceres::EvaluationCallback* callback) {
   return o;
 }
 
-class CallbackAdapter final : public ceres::IterationCallback {
- public:
-  CallbackAdapter(const SolverOptions& options, bool* interrupted,
-                  std::function<void()> on_accepted)
-      : options_(options), interrupted_(interrupted), on_accepted_(std::move(on_accepted)) {}
-  ceres::CallbackReturnType operator()(
-      const ceres::IterationSummary& s) override {
-    // update_state_every_iteration: the variables hold the best point now.
-    if (s.iteration == 0 || s.step_is_successful) on_accepted_();
-    IterationInfo info;
-    info.iteration = s.iteration;
-    info.cost = s.cost;
-    info.cost_change = s.cost_change;
-    info.gradient_max_norm = s.gradient_max_norm;
-    info.step_norm = s.step_norm;
-    info.trust_region_radius = s.trust_region_radius;
-    info.iteration_time_s = s.iteration_time_in_seconds;
-    info.cumulative_time_s = s.cumulative_time_in_seconds;
-    info.step_is_successful = s.step_is_successful;
-    if (options_.verbose) {
-      if (s.iteration == 0) std::fprintf(stderr, "%s\n", ProgressHeader().c_str());
-      std::fprintf(stderr, "%s\n", FormatProgress(info).c_str());
-    }
-    if (options_.on_iteration && !options_.on_iteration(info)) {
-      *interrupted_ = true;
-      // Keep the last accepted estimate (written back on return).
-      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
-    }
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const SolverOptions& options_;
-  bool* interrupted_;
-  std::function<void()> on_accepted_;
-};
+// Ceres indexes parameter blocks, Jacobians and JᵀJ with int.
+constexpr long long kCeresMaxEntries = std::numeric_limits<int>::max();
 
 }  // namespace
+
+// Holds the problem for one thread during Solve or an evaluation: a call from
+// another thread meanwhile throws instead of racing on Ceres' state (and on
+// the evaluation hooks' caches). `reentrant` calls (residuals of single
+// measurements) are allowed from the solving thread itself, e.g. from an
+// iteration callback.
+class Problem::Busy {
+ public:
+  Busy(const Problem& p, const char* what, bool reentrant = false) : p_(p) {
+    const std::thread::id me = std::this_thread::get_id();
+    std::thread::id owner{};
+    if (p_.busy_.compare_exchange_strong(owner, me)) return;
+    if (owner == me && reentrant) {
+      held_ = false;
+      return;
+    }
+    BOXPLUS_CHECK(owner != me, what, ": not allowed while the problem is being solved "
+                  "(from an iteration callback or an evaluation hook)");
+    throw ::boxplus::Error(std::string(what) + ": problem is already being solved in another thread");
+  }
+  ~Busy() {
+    if (held_) p_.busy_.store(std::thread::id{});
+  }
+  Busy(const Busy&) = delete;
+  Busy& operator=(const Busy&) = delete;
+
+ private:
+  const Problem& p_;
+  bool held_ = true;
+};
 
 Problem::Problem()
     : hooks_(std::make_unique<HookDispatcher>()),
@@ -113,23 +112,48 @@ void Problem::CheckMeasurement(int id) const {
 
 int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
                          const double* init, const std::string& name) {
-  BOXPLUS_CHECK(manifold != nullptr, "variable '", name, "': no manifold");
+  const Busy busy(*this, "AddVariable");
   const int id = num_variables();
-  auto v = std::make_unique<Variable>();
+  const std::string what = "variable " + (name.empty() ? std::to_string(id) : "'" + name + "'");
+  BOXPLUS_CHECK(manifold != nullptr, what, ": no manifold");
   const int n = manifold->AmbientSize();
+  const int t = manifold->TangentSize();
+  BOXPLUS_CHECK(n >= 1 && t >= 0 && t <= n, what, ": manifold of ambient size ", n,
+                " and tangent size ", t, " (need 0 <= tangent <= ambient, ambient >= 1)");
+  auto v = std::make_unique<Variable>();
+  v->euclidean = internal::IsEuclidean(*manifold);
+  // Ceres stores an ambient × tangent Plus Jacobian for every manifold.
+  BOXPLUS_CHECK(v->euclidean || static_cast<long long>(n) * t <= kCeresMaxEntries, what,
+                ": its ", n, " x ", t, " Plus Jacobian has more entries than Ceres can index");
   v->data.reset(new double[n]);
-  for (int i = 0; i < n; ++i) {
-    BOXPLUS_CHECK(std::isfinite(init[i]), "variable ",
-                  name.empty() ? std::to_string(id) : "'" + name + "'",
-                  ": initial value has a non-finite entry");
-    v->data[i] = init[i];
-  }
   v->manifold = std::move(manifold);
   v->name = name.empty() ? "x" + std::to_string(id) : name;
-  problem_->AddParameterBlock(v->data.get(), n,
-                              const_cast<ceres::Manifold*>(v->manifold.get()));
   vars_.push_back(std::move(v));
+  try {
+    StoreValue(id, init, "initial value");
+  } catch (...) {
+    vars_.pop_back();  // validate before the problem changes
+    throw;
+  }
+  Variable& var = *vars_.back();
+  problem_->AddParameterBlock(
+      var.data.get(), n,
+      var.euclidean ? nullptr : const_cast<ceres::Manifold*>(var.manifold.get()));
   return id;
+}
+
+// Copies a finite ambient value into the variable's storage, its unit parts
+// normalised.
+void Problem::StoreValue(int id, const double* ambient, const char* what) {
+  Variable& v = *vars_[id];
+  const int n = v.manifold->AmbientSize();
+  std::vector<double> x(ambient, ambient + n);
+  for (int i = 0; i < n; ++i) {
+    BOXPLUS_CHECK(std::isfinite(x[i]), "variable '", v.name, "': ", what,
+                  " has a non-finite entry (", i, ")");
+  }
+  internal::NormaliseAmbient(*v.manifold, x.data(), "variable '" + v.name + "'");
+  std::copy(x.begin(), x.end(), v.data.get());
 }
 
 const std::string& Problem::variable_name(int id) const {
@@ -145,15 +169,12 @@ const double* Problem::value(int id) const {
   return vars_[id]->data.get();
 }
 void Problem::SetValue(int id, const double* ambient) {
+  const Busy busy(*this, "SetValue");
   CheckVariable(id);
-  const int n = vars_[id]->manifold->AmbientSize();
-  for (int i = 0; i < n; ++i) {
-    BOXPLUS_CHECK(std::isfinite(ambient[i]), "variable '", vars_[id]->name,
-                  "': value has a non-finite entry");
-  }
-  std::copy(ambient, ambient + n, vars_[id]->data.get());
+  StoreValue(id, ambient, "value");
 }
 void Problem::SetFixed(int id, bool fixed) {
+  const Busy busy(*this, "SetFixed");
   CheckVariable(id);
   vars_[id]->fixed = fixed;
   if (fixed) {
@@ -166,15 +187,21 @@ bool Problem::IsFixed(int id) const {
   CheckVariable(id);
   return vars_[id]->fixed;
 }
+bool Problem::IsTouched(int id) const {
+  CheckVariable(id);
+  return vars_[id]->num_measurements > 0;
+}
 
 int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                             const std::vector<int>& var_ids, const NoiseModel& noise,
                             std::shared_ptr<ceres::LossFunction> loss,
                             const std::string& name) {
+  const Busy busy(*this, "AddMeasurement");
   const int id = num_measurements();
   const std::string what =
       "measurement " + (name.empty() ? std::to_string(id) : "'" + name + "'");
   BOXPLUS_CHECK(cost != nullptr, what, ": no cost function");
+  BOXPLUS_CHECK(!var_ids.empty(), what, ": depends on no variable");
   const auto& sizes = cost->parameter_block_sizes();
   BOXPLUS_CHECK(sizes.size() == var_ids.size(), what, ": its function takes ",
                 sizes.size(), " variables but ", var_ids.size(),
@@ -197,6 +224,25 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                   "' has ", vars_[v]->manifold->AmbientSize());
     blocks.push_back(vars_[v]->data.get());
   }
+  // Ceres' evaluation buffers hold nr × ambient per block, its Jacobian
+  // nr × tangent per block summed over the problem, JᵀJ a dense
+  // tangent × tangent block per measurement; all int-indexed.
+  const long long nr = cost->num_residuals();
+  long long ambient = 0, tangent = 0;
+  for (int v : var_ids) {
+    ambient += vars_[v]->manifold->AmbientSize();
+    tangent += vars_[v]->manifold->TangentSize();
+  }
+  BOXPLUS_CHECK(nr * ambient <= kCeresMaxEntries &&
+                    jacobian_entries_ + nr * tangent <= kCeresMaxEntries,
+                what, ": its Jacobian (", nr, " residuals x ", ambient,
+                " coordinates) takes the problem past the ", kCeresMaxEntries,
+                " Jacobian entries Ceres can index");
+  BOXPLUS_CHECK(tangent * tangent <= kCeresMaxEntries, what, ": its block of the normal "
+                "equations (", tangent, " x ", tangent, " tangent coordinates) has more than the ",
+                kCeresMaxEntries, " entries Ceres can index");
+  jacobian_entries_ += nr * tangent;
+  for (int v : var_ids) ++vars_[v]->num_measurements;
   Measurement m;
   m.cost = std::move(cost);
   m.loss = std::move(loss);
@@ -229,10 +275,12 @@ const NoiseModel& Problem::noise(int id) const {
 }
 
 void Problem::AddEvaluationHook(EvaluationHook hook) {
+  const Busy busy(*this, "AddEvaluationHook");
   hooks_->hooks.push_back(std::move(hook));
 }
 
 SolveSummary Problem::Solve(const SolverOptions& options) {
+  const Busy busy(*this, "Solve");
   Validate(options);
   SolveSummary out;
   if (num_measurements() == 0) {
@@ -241,93 +289,30 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
     out.usable = true;
     return out;
   }
-  if (options.method == Method::kGaussNewtonLineSearch) return SolveByLineSearch(options);
-  ceres::Solver::Options o;
-  o.minimizer_type = ceres::TRUST_REGION;
-  o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  BOXPLUS_CHECK(options.initial_trust_region_radius > 0,
-                "initial_trust_region_radius must be > 0");
-  BOXPLUS_CHECK(options.max_consecutive_nonmonotonic_steps >= 0,
-                "max_consecutive_nonmonotonic_steps must be >= 0");
-  o.initial_trust_region_radius = options.initial_trust_region_radius;
-  o.max_trust_region_radius = std::max(o.max_trust_region_radius, o.initial_trust_region_radius);
-  if (options.damping == Damping::kLevenberg) {
-    o.min_lm_diagonal = 1.0;
-    o.max_lm_diagonal = 1.0;
-  }
-  o.jacobi_scaling = options.jacobi_scaling;
-  o.use_nonmonotonic_steps = options.use_nonmonotonic_steps;
-  o.max_consecutive_nonmonotonic_steps = options.max_consecutive_nonmonotonic_steps;
-  switch (options.method) {
-    case Method::kLevenbergMarquardt:
-      break;
-    case Method::kDogleg:
-      o.trust_region_strategy_type = ceres::DOGLEG;
-      break;
-    case Method::kGaussNewton:
-      // Undamped normal equations; the trust region only rejects steps that
-      // increase the cost.
-      o.min_lm_diagonal = 1e-32;
-      o.max_lm_diagonal = 1e-32;
-      o.initial_trust_region_radius = 1e16;
-      o.max_trust_region_radius = 1e16;
-      break;
-    case Method::kGaussNewtonLineSearch:
-      break;  // solved by SolveByLineSearch
-  }
-  o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  o.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-  o.max_num_iterations = options.max_iterations;
-  o.function_tolerance = options.function_tolerance;
-  o.gradient_tolerance = options.gradient_tolerance;
-  o.parameter_tolerance = options.parameter_tolerance;
-  o.num_threads = options.num_threads;
-  o.logging_type = ceres::SILENT;
-  o.minimizer_progress_to_stdout = false;
-  bool interrupted = false;
-  // The last accepted point: restored when the solve fails part-way (an
-  // evaluation error, Ctrl-C inside a measurement function), so the variables
-  // never hold a rejected trial point.
-  std::vector<std::vector<double>> best(vars_.size());
-  auto snapshot = [this, &best] {
-    for (size_t i = 0; i < vars_.size(); ++i) {
-      const double* d = vars_[i]->data.get();
-      best[i].assign(d, d + vars_[i]->manifold->AmbientSize());
-    }
-  };
-  snapshot();
-  CallbackAdapter callback(options, &interrupted, snapshot);
-  o.callbacks.push_back(&callback);
-  o.update_state_every_iteration = true;
-  std::string why;
-  BOXPLUS_CHECK(o.IsValid(&why), "invalid solver options: ", why);
-
-  ceres::Solver::Summary s;
-  ceres::Solve(o, problem_.get(), &s);
-  out.initial_cost = s.initial_cost;
-  out.final_cost = s.final_cost;
-  out.iterations = static_cast<int>(s.iterations.size()) - 1;
-  out.time_s = s.total_time_in_seconds;
-  out.message = s.message;
-  out.report = s.FullReport();
-  if (interrupted) {
-    out.termination = "interrupted";
-    out.usable = true;
-  } else if (s.termination_type == ceres::CONVERGENCE) {
-    out.termination = "convergence";
-    out.usable = true;
-  } else if (s.termination_type == ceres::NO_CONVERGENCE) {
-    out.termination = "no_convergence";
-    out.usable = true;
+  if (options.method == Method::kGaussNewtonLineSearch) {
+    out = SolveByLineSearch(options);
   } else {
+    std::vector<internal::LsqBlock> blocks;
+    for (const auto& v : vars_) blocks.push_back({v->data.get(), v->manifold.get(), v->fixed});
+    out = internal::SolveTrustRegion(problem_.get(), blocks, options);
+  }
+  // Ceres' LM "converges" from an infinite cost (residuals too large to
+  // square) to an infinite cost; say which measurement is at fault.
+  std::string why;
+  if (!std::isfinite(out.initial_cost) || (out.termination == "failure" && out.iterations <= 0)) {
+    why = FirstNonFiniteMeasurement();
+    if (!why.empty()) {
+      why = "at the start, " + why;
+    } else if (!std::isfinite(out.initial_cost)) {
+      why = "the cost is not finite at the start";
+    }
+  } else if (!std::isfinite(out.final_cost)) {
+    why = "the cost is not finite at the end";
+  }
+  if (!why.empty()) {
+    out.message = why + " (" + out.message + ")";
     out.termination = "failure";
     out.usable = false;
-  }
-  if (interrupted || s.termination_type == ceres::FAILURE) {
-    for (size_t i = 0; i < vars_.size(); ++i) {
-      std::copy(best[i].begin(), best[i].end(), vars_[i]->data.get());
-    }
-    out.final_cost = std::min(out.final_cost, out.initial_cost);
   }
   return out;
 }
@@ -335,7 +320,9 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
 SolveSummary Problem::SolveByLineSearch(const SolverOptions& options) {
   std::vector<internal::LsqBlock> blocks;
   blocks.reserve(vars_.size());
-  for (const auto& v : vars_) blocks.push_back({v->data.get(), v->manifold.get(), v->fixed});
+  for (const auto& v : vars_) {
+    blocks.push_back({v->data.get(), v->manifold.get(), v->fixed, v->euclidean});
+  }
   std::vector<internal::LsqTerm> terms;
   terms.reserve(meas_.size());
   for (const Measurement& m : meas_) terms.push_back({m.cost.get(), m.loss.get(), m.vars});
@@ -344,7 +331,29 @@ SolveSummary Problem::SolveByLineSearch(const SolverOptions& options) {
       [this](bool jacobians) { hooks_->PrepareForEvaluation(jacobians, true); });
 }
 
+// Names the first measurement whose residual cannot be evaluated, is not
+// finite or overflows when squared at the current values; "" when there is
+// none. Diagnostics after a failure: errors thrown here are not the answer.
+std::string Problem::FirstNonFiniteMeasurement() {
+  try {
+    hooks_->PrepareForEvaluation(false, true);
+    for (const Measurement& m : meas_) {
+      std::vector<const double*> blocks;
+      for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
+      Eigen::VectorXd r(m.cost->num_residuals());
+      const std::string what = "measurement '" + m.name + "'";
+      if (!m.cost->Evaluate(blocks.data(), r.data(), nullptr)) return what + " cannot be evaluated";
+      if (!r.allFinite()) return what + " has a non-finite residual";
+      if (!std::isfinite(r.squaredNorm())) return what + " has a residual whose square overflows";
+    }
+  } catch (const std::exception& e) {
+    return std::string("evaluating the measurements failed: ") + e.what();
+  }
+  return "";
+}
+
 Eigen::VectorXd Problem::Residual(int measurement_id) {
+  const Busy busy(*this, "Residual", /*reentrant=*/true);
   CheckMeasurement(measurement_id);
   const Measurement& m = meas_[measurement_id];
   std::vector<const double*> blocks;
@@ -363,14 +372,17 @@ Eigen::VectorXd Problem::Error(int measurement_id) {
 }
 
 double Problem::Cost() {
+  const Busy busy(*this, "Cost");
   double cost = 0.0;
   ceres::Problem::EvaluateOptions eo;
-  BOXPLUS_CHECK(problem_->Evaluate(eo, &cost, nullptr, nullptr, nullptr),
-                "evaluating the cost failed");
+  if (!problem_->Evaluate(eo, &cost, nullptr, nullptr, nullptr)) {
+    throw ::boxplus::Error("evaluating the cost failed; " + FirstNonFiniteMeasurement());
+  }
   return cost;
 }
 
 JacobianEvaluation Problem::EvaluateJacobian() {
+  const Busy busy(*this, "EvaluateJacobian");
   JacobianEvaluation out;
   ceres::Problem::EvaluateOptions eo;
   int cols = 0;
@@ -393,8 +405,9 @@ JacobianEvaluation Problem::EvaluateJacobian() {
   double cost = 0.0;
   std::vector<double> residuals;
   ceres::CRSMatrix crs;
-  BOXPLUS_CHECK(problem_->Evaluate(eo, &cost, &residuals, nullptr, &crs),
-                "evaluating the Jacobian failed");
+  if (!problem_->Evaluate(eo, &cost, &residuals, nullptr, &crs)) {
+    throw ::boxplus::Error("evaluating the Jacobian failed; " + FirstNonFiniteMeasurement());
+  }
   BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols,
                 "Jacobian has an unexpected shape");
   out.residuals = Eigen::Map<Eigen::VectorXd>(residuals.data(), rows);
@@ -409,15 +422,32 @@ JacobianEvaluation Problem::EvaluateJacobian() {
 Eigen::MatrixXd Problem::Covariance(int id) { return JointCovariance({id}); }
 
 Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
+  const Busy busy(*this, "Covariance");
   std::vector<int> offsets;
   int total = 0;
+  std::set<int> seen;
+  std::vector<std::string> untouched;
   for (int id : ids) {
     CheckVariable(id);
+    BOXPLUS_CHECK(seen.insert(id).second, "joint covariance: variable '", vars_[id]->name,
+                  "' is listed twice");
     BOXPLUS_CHECK(!vars_[id]->fixed, "variable '", vars_[id]->name,
                   "' is fixed: it has no covariance");
+    if (vars_[id]->num_measurements == 0) untouched.push_back("'" + vars_[id]->name + "'");
     offsets.push_back(total);
     total += vars_[id]->manifold->TangentSize();
   }
+  if (untouched.size() == 1) {
+    throw ::boxplus::Error("variable " + untouched[0] +
+                " is not touched by any measurement: its covariance is undetermined");
+  }
+  if (!untouched.empty()) {
+    std::string names = untouched[0];
+    for (size_t k = 1; k < untouched.size(); ++k) names += ", " + untouched[k];
+    throw ::boxplus::Error("variables " + names +
+                " are not touched by any measurement: their covariance is undetermined");
+  }
+  if (ids.empty()) return Eigen::MatrixXd(0, 0);
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;

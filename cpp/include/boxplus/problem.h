@@ -9,11 +9,18 @@
 // Every input is validated here and raises boxplus::Error / IndexError
 // naming the variable or measurement, so Ceres' aborting CHECKs are never
 // reached.
+//
+// One thread at a time: while Solve runs, a call from another thread that
+// solves, evaluates or modifies the problem throws boxplus::Error ("problem
+// is already being solved in another thread") instead of racing; reading
+// values is always allowed.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <ceres/cost_function.h>
@@ -57,22 +64,31 @@ class Problem {
 
   // Adds a variable with initial value `init` (manifold->AmbientSize()
   // doubles) and returns its id (0, 1, 2, ... in order of addition).
+  // Values on SO(3), SE(3) and S² (also as members of a ProductManifold) must
+  // be unit within 10⁻³ and are normalised; zero or far from unit throws.
+  // Plain Rⁿ (RnManifold) is passed to Ceres as Euclidean: no n × n Plus
+  // Jacobian is stored.
   int AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
                   const double* init, const std::string& name = "");
   int num_variables() const { return static_cast<int>(vars_.size()); }
   const std::string& variable_name(int id) const;
   const ceres::Manifold& manifold(int id) const;
   const double* value(int id) const;
+  // Validated and normalised as in AddVariable.
   void SetValue(int id, const double* ambient);
   void SetFixed(int id, bool fixed = true);
   bool IsFixed(int id) const;
+  // True when some measurement depends on the variable. A free variable no
+  // measurement touches is undetermined: it has no covariance.
+  bool IsTouched(int id) const;
 
   // Adds a measurement depending on `var_ids` (in the order of the cost
   // function's parameter blocks). The cost function returns the whitened
   // residual r = W e; `noise` is the W it whitens with, kept so that Error()
   // can un-whiten (its dimension must divide the residual size; a default
   // NoiseModel means the residual is the error). `loss` may be null (plain
-  // least squares).
+  // least squares). A measurement must depend on at least one variable, each
+  // listed once, and its Jacobians must fit Ceres' int-indexed storage.
   int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                      const std::vector<int>& var_ids, const NoiseModel& noise,
                      std::shared_ptr<ceres::LossFunction> loss = nullptr,
@@ -92,6 +108,9 @@ class Problem {
 
   void AddEvaluationHook(EvaluationHook hook);
 
+  // Minimises the cost from the current values. A cost that is not finite
+  // at the start or at the end is a "failure" (the message names the first
+  // measurement whose residual is not finite).
   SolveSummary Solve(const SolverOptions& options = {});
 
   // Whitened residual r = W e of one measurement at the current values.
@@ -106,19 +125,28 @@ class Problem {
   JacobianEvaluation EvaluateJacobian();
 
   // Marginal covariance of a variable in its tangent space (after a solve).
-  // Throws when the problem does not determine the variable (rank-deficient).
+  // Throws when the problem does not determine the variable: it is fixed, no
+  // measurement touches it (see IsTouched), or the Jacobian is rank-deficient.
   Eigen::MatrixXd Covariance(int id);
-  // Joint covariance of several variables, blocks in the order given.
+  // Joint covariance of several distinct variables, blocks in the order
+  // given; throws as Covariance, naming the variables at fault.
   Eigen::MatrixXd JointCovariance(const std::vector<int>& ids);
 
  private:
   struct Variable;
   struct Measurement;
   class HookDispatcher;
+  class Busy;
   void CheckVariable(int id) const;
   void CheckMeasurement(int id) const;
+  void StoreValue(int id, const double* ambient, const char* what);
   SolveSummary SolveByLineSearch(const SolverOptions& options);
+  std::string FirstNonFiniteMeasurement();
 
+  // The thread running Solve or an evaluation through Ceres (none when idle).
+  mutable std::atomic<std::thread::id> busy_{};
+  // Σ over measurements of their Jacobian entries (Ceres indexes them with int).
+  long long jacobian_entries_ = 0;
   std::unique_ptr<HookDispatcher> hooks_;
   std::unique_ptr<ceres::Problem> problem_;
   std::vector<std::unique_ptr<Variable>> vars_;

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/OrderingMethods>
+
+#include "boxplus/errors.h"
 
 namespace boxplus::internal {
 namespace {
@@ -86,6 +89,9 @@ void NormalEquations::Layout() {
     }
     nnz += static_cast<long long>(column_height[f]) * tangent_[f];
   }
+  // Eigen's sparse matrix indexes its entries with int.
+  BOXPLUS_CHECK(nnz <= std::numeric_limits<int>::max(), "the normal equations have ", nnz,
+                " non-zeros, more than a sparse matrix with int indices holds");
   H_.resize(n_, n_);
   H_.resizeNonZeros(static_cast<Eigen::Index>(nnz));
   int* outer = H_.outerIndexPtr();
