@@ -80,7 +80,8 @@ class Problem::Busy {
     }
     BOXPLUS_CHECK(owner != me, what, ": not allowed while the problem is being solved "
                   "(from an iteration callback or an evaluation hook)");
-    throw ::boxplus::Error(std::string(what) + ": problem is already being solved in another thread");
+    throw ::boxplus::Error(std::string(what) +
+                           ": problem is already being solved in another thread");
   }
   ~Busy() {
     if (held_) p_.busy_.store(std::thread::id{});
