@@ -129,7 +129,7 @@ def worker(tool, path, out_npy, iterations):
         load = time.perf_counter() - t0
         trace = []
         s = g.solve(method=solver, max_iterations=iterations, function_tolerance=TOL,
-                    callback=lambda i: trace.append((i["cumulative_time_s"], 2 * i["cost"])))
+                    callback=lambda i: trace.append((i.cumulative_time_s, i.chi2)))
         peak_kb = _status_kb("VmHWM") - before
         order = [g.vertex_ids.index(i) for i in data["ids"]]
         poses = g.poses()[order]

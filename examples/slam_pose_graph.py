@@ -35,10 +35,10 @@ def run(path: Path, init: str = "chordal", convention: str = "g2o", out: Path = 
         print(f"  chi2 at the file's estimate {start.chi2():.6g}; after {init} "
               f"initialisation {graph.chi2():.6g}")
 
-    def show(it: dict) -> None:
+    def show(it) -> None:
         if verbose:
-            print(f"  iteration {it['iteration']:3d}  chi2 {2 * it['cost']:.10g}  "
-                  f"{it['cumulative_time_s'] * 1e3:7.1f} ms")
+            print(f"  iteration {it.iteration:3d}  chi2 {it.chi2:.10g}  "
+                  f"{it.cumulative_time_s * 1e3:7.1f} ms")
 
     summary = graph.solve(callback=show)
     out.mkdir(parents=True, exist_ok=True)

@@ -8,7 +8,10 @@ namespace boxplus::python {
 
 void RegisterErrors(pybind11::module_& m);
 void RegisterNoise(pybind11::module_& m);
+void RegisterLoss(pybind11::module_& m);
+void RegisterSolver(pybind11::module_& m);
 void RegisterManifolds(pybind11::module_& m);
+void RegisterPythonManifold(pybind11::module_& m);
 void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
 void RegisterPythonMeasurements(pybind11::module_& m);

@@ -14,6 +14,7 @@
 #include "boxplus/factors/pinhole.h"
 #include "boxplus/factors/point.h"
 #include "boxplus/factors/relative_pose.h"
+#include "boxplus/noise.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 
@@ -39,50 +40,50 @@ void RegisterFactors(py::module_& m) {
   problem.def(
       "add_pinhole_point",
       [](Problem& p, const std::string& model, int intrinsics, int x2world, int x2cam,
-         const Eigen::Vector2d& z, const Eigen::Matrix2d& sqrt_info, const Eigen::Vector3d& p_world,
+         const Eigen::Vector2d& z, const NoiseModel& noise, const Eigen::Vector3d& p_world,
          const std::string& name, const LossHandle* loss) {
-        return p.AddMeasurement(MakePinholePointFactor(model, z, sqrt_info, p_world),
-                                {intrinsics, x2world, x2cam}, Loss(loss), name);
+        return p.AddMeasurement(MakePinholePointFactor(model, z, noise.Fixed<2>(name), p_world),
+                                {intrinsics, x2world, x2cam}, noise, Loss(loss), name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("x2world"), py::arg("x2cam"), py::arg("z"),
-      py::arg("sqrt_info"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "Pinhole projection r = W (π(k, x2cam ∘ x2world⁻¹ ∘ p_world) − z); see factors/pinhole.h.");
   problem.def(
       "add_pinhole_board",
       [](Problem& p, const std::string& model, int intrinsics, int x2world, int x2cam,
-         const Points2& z, const Eigen::Matrix2d& sqrt_info, const Points3& p_world,
+         const Points2& z, const NoiseModel& noise, const Points3& p_world,
          const std::string& name, const LossHandle* loss) {
-        return p.AddMeasurement(MakePinholeBoardFactor(model, z, sqrt_info, p_world),
-                                {intrinsics, x2world, x2cam}, Loss(loss), name);
+        return p.AddMeasurement(MakePinholeBoardFactor(model, z, noise.Fixed<2>(name), p_world),
+                                {intrinsics, x2world, x2cam}, noise, Loss(loss), name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("x2world"), py::arg("x2cam"), py::arg("z"),
-      py::arg("sqrt_info"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "All points of a board in one residual block: z (N, 2) pixels, p_world (N, 3); see "
       "factors/board.h.");
   problem.def(
       "add_marker",
       [](Problem& p, const std::string& model, int intrinsics, int x2base, int p_in_hand,
-         int x2cam, const Eigen::Vector2d& z, const Eigen::Matrix2d& sqrt_info,
+         int x2cam, const Eigen::Vector2d& z, const NoiseModel& noise,
          const Pose& hand2base, const std::string& name, const LossHandle* loss) {
-        return p.AddMeasurement(MakeKnownKinematicsMarkerFactor(model, z, sqrt_info, hand2base),
-                                {intrinsics, x2base, p_in_hand, x2cam}, Loss(loss), name);
+        return p.AddMeasurement(MakeKnownKinematicsMarkerFactor(model, z, noise.Fixed<2>(name), hand2base),
+                                {intrinsics, x2base, p_in_hand, x2cam}, noise, Loss(loss), name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("x2base"), py::arg("p_in_hand"),
-      py::arg("x2cam"), py::arg("z"), py::arg("sqrt_info"), py::arg("hand2base"),
+      py::arg("x2cam"), py::arg("z"), py::arg("noise"), py::arg("hand2base"),
       py::arg("name") = "", py::arg("loss") = nullptr,
       "Marker on a hand, hand2base from forward kinematics (constant); see factors/marker.h.");
   problem.def(
       "add_dh_marker",
       [](Problem& p, const std::string& model, int intrinsics, int x2base, int p_in_hand,
-         int x2cam, int dh, const Eigen::Vector2d& z, const Eigen::Matrix2d& sqrt_info,
+         int x2cam, int dh, const Eigen::Vector2d& z, const NoiseModel& noise,
          const Eigen::VectorXd& joints, const Pose& base2chain, const Pose& flange2hand,
          const std::string& name, const LossHandle* loss) {
         return p.AddMeasurement(
-            MakeDHMarkerFactor(model, z, sqrt_info, joints, base2chain, flange2hand),
-            {intrinsics, x2base, p_in_hand, x2cam, dh}, Loss(loss), name);
+            MakeDHMarkerFactor(model, z, noise.Fixed<2>(name), joints, base2chain, flange2hand),
+            {intrinsics, x2base, p_in_hand, x2cam, dh}, noise, Loss(loss), name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("x2base"), py::arg("p_in_hand"),
-      py::arg("x2cam"), py::arg("dh"), py::arg("z"), py::arg("sqrt_info"), py::arg("joints"),
+      py::arg("x2cam"), py::arg("dh"), py::arg("z"), py::arg("noise"), py::arg("joints"),
       py::arg("base2chain"), py::arg("flange2hand"), py::arg("name") = "",
       py::arg("loss") = nullptr,
       "Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) "
@@ -90,53 +91,53 @@ void RegisterFactors(py::module_& m) {
   problem.def(
       "add_gravity",
       [](Problem& p, const std::string& model, int x2world, int x2imu, int accel,
-         const Eigen::Vector3d& z, const Eigen::Matrix3d& sqrt_info,
+         const Eigen::Vector3d& z, const NoiseModel& noise,
          const Eigen::Vector3d& g_in_world, const std::string& name, const LossHandle* loss) {
-        auto cost = MakeGravityFactor(model, z, sqrt_info, g_in_world);
+        auto cost = MakeGravityFactor(model, z, noise.Fixed<3>(name), g_in_world);
         std::vector<int> ids = {x2world, x2imu};
         if (GravityModelSize(model) > 0) ids.push_back(accel);
-        return p.AddMeasurement(cost, ids, Loss(loss), name);
+        return p.AddMeasurement(cost, ids, noise, Loss(loss), name);
       },
       py::arg("model"), py::arg("x2world"), py::arg("x2imu"), py::arg("accel"), py::arg("z"),
-      py::arg("sqrt_info"), py::arg("g_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("g_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "Gravity in the IMU: r = W (s R_imu_x R_x2worldᵀ g + b − z); accel ignored for model "
       "'rotation'; see factors/gravity.h.");
   problem.def(
       "add_relative_pose",
       [](Problem& p, int a2world, int b2world, const Pose& z_b2a,
-         const Eigen::Matrix<double, 6, 6>& sqrt_info, const std::string& name,
+         const NoiseModel& noise, const std::string& name,
          const LossHandle* loss) {
-        return p.AddMeasurement(MakeRelativePoseFactor(z_b2a, sqrt_info), {a2world, b2world},
-                                Loss(loss), name);
+        return p.AddMeasurement(MakeRelativePoseFactor(z_b2a, noise.Fixed<6>(name)), {a2world, b2world},
+                                noise, Loss(loss), name);
       },
-      py::arg("a2world"), py::arg("b2world"), py::arg("z_b2a"), py::arg("sqrt_info"),
+      py::arg("a2world"), py::arg("b2world"), py::arg("z_b2a"), py::arg("noise"),
       py::arg("name") = "", py::arg("loss") = nullptr,
       "r = W ((a2world⁻¹ ∘ b2world) ⊟ z_b2a), tangent [δp, δθ]; see factors/relative_pose.h.");
   problem.def(
       "add_point",
       [](Problem& p, int x2world, int x2cam, int p_world_id, const Eigen::Vector3d& z,
-         const Eigen::Matrix3d& sqrt_info, const Eigen::Vector3d& p_world,
+         const NoiseModel& noise, const Eigen::Vector3d& p_world,
          const std::string& name, const LossHandle* loss) {
         if (p_world_id >= 0) {
-          return p.AddMeasurement(MakeLandmarkPointFactor(z, sqrt_info),
-                                  {x2world, x2cam, p_world_id}, Loss(loss), name);
+          return p.AddMeasurement(MakeLandmarkPointFactor(z, noise.Fixed<3>(name)),
+                                  {x2world, x2cam, p_world_id}, noise, Loss(loss), name);
         }
-        return p.AddMeasurement(MakePointFactor(z, sqrt_info, p_world), {x2world, x2cam},
-                                Loss(loss), name);
+        return p.AddMeasurement(MakePointFactor(z, noise.Fixed<3>(name), p_world), {x2world, x2cam},
+                                noise, Loss(loss), name);
       },
       py::arg("x2world"), py::arg("x2cam"), py::arg("p_world_id"), py::arg("z"),
-      py::arg("sqrt_info"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "3-D point in the sensor frame: r = W (x2cam ∘ x2world⁻¹ ∘ p_world − z); p_world_id < 0 "
       "uses the constant p_world; see factors/point.h.");
   problem.def(
       "add_disparity",
-      [](Problem& p, int x2world, int x2cam, int disparity_params, double d, double sigma,
+      [](Problem& p, int x2world, int x2cam, int disparity_params, double d, const NoiseModel& noise,
          const Eigen::Vector3d& p_world, const std::string& name, const LossHandle* loss) {
-        return p.AddMeasurement(MakeDisparityFactor(d, sigma, p_world),
-                                {x2world, x2cam, disparity_params}, Loss(loss), name);
+        return p.AddMeasurement(MakeDisparityFactor(d, 1.0 / noise.Fixed<1>(name)(0, 0), p_world),
+                                {x2world, x2cam, disparity_params}, noise, Loss(loss), name);
       },
       py::arg("x2world"), py::arg("x2cam"), py::arg("disparity_params"), py::arg("d"),
-      py::arg("sigma"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "Kinect-style disparity d = a / Z + b of a board point; see factors/disparity.h.");
 }
 

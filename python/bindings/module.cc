@@ -5,7 +5,10 @@ PYBIND11_MODULE(_core, m) {
   m.attr("__version__") = BOXPLUS_VERSION;
   boxplus::python::RegisterErrors(m);
   boxplus::python::RegisterNoise(m);
+  boxplus::python::RegisterLoss(m);
+  boxplus::python::RegisterSolver(m);
   boxplus::python::RegisterManifolds(m);
+  boxplus::python::RegisterPythonManifold(m);
   boxplus::python::RegisterValues(m);
   boxplus::python::RegisterProblem(m);
   boxplus::python::RegisterPythonMeasurements(m);

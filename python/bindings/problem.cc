@@ -9,67 +9,39 @@
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 #include "pending_error.h"
+#include "python_manifold.h"
+#include "solver.h"
 
 namespace py = pybind11;
 
 namespace boxplus::python {
 namespace {
 
-Method ParseMethod(const std::string& name) {
-  if (name == "lm" || name == "levenberg_marquardt") return Method::kLevenbergMarquardt;
-  if (name == "gn" || name == "gauss_newton") return Method::kGaussNewton;
-  if (name == "dogleg") return Method::kDogleg;
-  if (name == "gn_ls" || name == "gn-ls") return Method::kGaussNewtonLineSearch;
-  throw py::value_error("unknown method '" + name +
-                        "' (expected 'lm', 'gn', 'gn_ls' or 'dogleg')");
-}
-
-py::dict InfoToDict(const IterationInfo& i) {
-  py::dict d;
-  d["iteration"] = i.iteration;
-  d["cost"] = i.cost;
-  d["cost_change"] = i.cost_change;
-  d["gradient_max_norm"] = i.gradient_max_norm;
-  d["step_norm"] = i.step_norm;
-  d["trust_region_radius"] = i.trust_region_radius;
-  d["iteration_time_s"] = i.iteration_time_s;
-  d["cumulative_time_s"] = i.cumulative_time_s;
-  d["step_is_successful"] = i.step_is_successful;
-  return d;
-}
-
-// Runs f; if a Python callback failed inside it, raises that error instead
-// of the generic C++ one.
-template <class F>
-auto RaisingPython(F f) {
-  TakePendingError();
-  try {
-    return f();
-  } catch (const std::exception&) {
-    if (auto e = TakePendingError()) throw std::move(*e);
-    throw;
+// Raises, before Ceres sees it, the error a Python manifold's ⊞ would give
+// at variable id's current value (a failing ⊞ inside Ceres would abort).
+void ValidatePythonManifold(const Problem& p, int id, const std::string& what) {
+  if (const auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
+    pm->Validate(p.value(id), what);
   }
+}
+
+std::string VariableWhat(const Problem& p, int id) {
+  const std::string& name = p.variable_name(id);
+  return "variable " + (name.empty() ? std::to_string(id) : "'" + name + "'");
+}
+
+// Whether a callback's return value asks to stop; None and booleans only.
+bool CallbackContinues(const py::object& r) {
+  if (r.is_none()) return true;
+  const std::string type = py::str(py::type::of(r).attr("__name__"));
+  if (py::isinstance<py::bool_>(r) || type == "bool_" || type == "bool") return r.cast<bool>();  // numpy bools too
+  throw py::type_error("the solve callback must return None, True or False, got " + type +
+                       " " + std::string(py::repr(r)).substr(0, 80));
 }
 
 }  // namespace
 
 void RegisterProblem(py::module_& m) {
-  py::class_<SolveSummary>(m, "SolveSummary", "What a solve did and why it stopped.")
-      .def_readonly("initial_cost", &SolveSummary::initial_cost, "½‖F(X₀)‖²")
-      .def_readonly("final_cost", &SolveSummary::final_cost, "½‖F(X)‖² at the estimate")
-      .def_readonly("iterations", &SolveSummary::iterations)
-      .def_readonly("time_s", &SolveSummary::time_s)
-      .def_readonly("termination", &SolveSummary::termination,
-                    "'convergence', 'no_convergence', 'interrupted' or 'failure'")
-      .def_readonly("message", &SolveSummary::message)
-      .def_readonly("usable", &SolveSummary::usable)
-      .def_readonly("report", &SolveSummary::report, "Ceres' full report.")
-      .def("__repr__", [](const SolveSummary& s) {
-        return "<SolveSummary " + s.termination + ": cost " + std::to_string(s.initial_cost) +
-               " -> " + std::to_string(s.final_cost) + " in " + std::to_string(s.iterations) +
-               " iterations, " + std::to_string(s.time_s) + " s>";
-      });
-
   py::class_<Problem>(m, "Problem", R"doc(
 The C++ least-squares problem: variables on manifolds and whitened residuals.
 The public, friendlier front is boxplus.OptimizationProblem.
@@ -83,6 +55,9 @@ The public, friendlier front is boxplus.OptimizationProblem.
               throw py::value_error("variable '" + name + "': initial value has " +
                                     std::to_string(init.size()) + " entries, the " + m.kind +
                                     " manifold " + std::to_string(m.manifold->AmbientSize()));
+            }
+            if (auto* pm = dynamic_cast<const PythonManifold*>(m.manifold.get())) {
+              pm->Validate(init.data(), "variable '" + name + "'");
             }
             return p.AddVariable(m.manifold, init.data(), name);
           },
@@ -100,6 +75,9 @@ The public, friendlier front is boxplus.OptimizationProblem.
           [](Problem& p, int id, const Eigen::VectorXd& v) {
             if (v.size() != p.manifold(id).AmbientSize()) {
               throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) + "'");
+            }
+            if (auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
+              pm->Validate(v.data(), VariableWhat(p, id));
             }
             p.SetValue(id, v.data());
           },
@@ -128,66 +106,52 @@ The public, friendlier front is boxplus.OptimizationProblem.
            "Un-whitened error e = W⁻¹ r of one measurement, in its own units.")
       .def(
           "solve",
-          [](Problem& p, const std::string& method, int max_iterations, double function_tolerance,
-             double gradient_tolerance, double parameter_tolerance, int num_threads, bool verbose,
-             const py::object& callback, double initial_trust_region_radius,
-             const std::string& damping, bool jacobi_scaling, int nonmonotonic_steps) {
-            SolverOptions o;
-            o.method = ParseMethod(method);
-            if (!(initial_trust_region_radius > 0)) {
-              throw py::value_error("initial_trust_region_radius must be > 0");
+          [](Problem& p, const py::object& options, const py::object& callback,
+             const py::kwargs& overrides) {
+            SolverOptions o = MakeSolverOptions(options, overrides);
+            if (!callback.is_none() && !PyCallable_Check(callback.ptr())) {
+              throw py::type_error("callback must be callable, got " +
+                                   std::string(py::str(py::type::of(callback).attr("__name__"))));
             }
-            o.initial_trust_region_radius = initial_trust_region_radius;
-            if (damping == "marquardt") {
-              o.damping = Damping::kMarquardt;
-            } else if (damping == "levenberg") {
-              o.damping = Damping::kLevenberg;
-            } else {
-              throw py::value_error("unknown damping '" + damping +
-                                    "' (expected 'marquardt' or 'levenberg')");
+            for (int id = 0; id < p.num_variables(); ++id) {
+              if (!p.IsFixed(id)) ValidatePythonManifold(p, id, VariableWhat(p, id));
             }
-            o.jacobi_scaling = jacobi_scaling;
-            if (nonmonotonic_steps < 0) throw py::value_error("nonmonotonic_steps must be >= 0");
-            o.use_nonmonotonic_steps = nonmonotonic_steps > 0;
-            o.max_consecutive_nonmonotonic_steps = nonmonotonic_steps;
-            o.max_iterations = max_iterations;
-            o.function_tolerance = function_tolerance;
-            o.gradient_tolerance = gradient_tolerance;
-            o.parameter_tolerance = parameter_tolerance;
-            o.num_threads = num_threads;
-            o.verbose = verbose;
-            // Python errors raised in the callback are kept and re-raised
-            // after Ceres has returned; Ctrl-C only stops the solve.
-            std::unique_ptr<py::error_already_set> pending;
-            TakePendingError();  // a stale error from an earlier evaluation
+            // Python errors raised inside Ceres (measurement functions,
+            // manifolds, the callback) land in this solve's slot and are
+            // re-raised after Ceres has returned; Ctrl-C only stops the solve.
+            ErrorScope scope;
+            ErrorSlot& slot = scope.slot();
             o.on_iteration = [&](const IterationInfo& info) {
               py::gil_scoped_acquire gil;
-              if (HasPendingError()) return false;
+              if (slot.Has()) return false;
               if (PyErr_CheckSignals() != 0) {
                 if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
                   PyErr_Clear();
                   return false;
                 }
-                pending = std::make_unique<py::error_already_set>();
+                slot.Store(py::error_already_set());
                 return false;
               }
-              if (!callback.is_none()) {
-                try {
-                  py::object r = callback(InfoToDict(info));
-                  if (!r.is_none() && !r.cast<bool>()) return false;
-                } catch (py::error_already_set& e) {
-                  pending = std::make_unique<py::error_already_set>(std::move(e));
-                  return false;
-                }
+              if (callback.is_none()) return true;
+              try {
+                return CallbackContinues(callback(info));
+              } catch (py::error_already_set& e) {
+                slot.Store(std::move(e));
+              } catch (const py::builtin_exception& e) {
+                e.set_error();
+                slot.Store(py::error_already_set());
               }
-              return true;
+              return false;
             };
             SolveSummary s;
-            {
+            try {
               py::gil_scoped_release release;
               s = p.Solve(o);
+            } catch (const std::exception&) {
+              if (auto e = slot.Take()) throw std::move(*e);
+              throw;
             }
-            if (!pending) pending = TakePendingError();
+            std::unique_ptr<py::error_already_set> pending = slot.Take();
             if (pending && pending->matches(PyExc_KeyboardInterrupt)) {
               // Ctrl-C inside a Python measurement: keep the estimate.
               s.termination = "interrupted";
@@ -197,45 +161,43 @@ The public, friendlier front is boxplus.OptimizationProblem.
             if (pending) throw std::move(*pending);
             return s;
           },
-          py::arg("method") = "lm", py::arg("max_iterations") = 100,
-          py::arg("function_tolerance") = 1e-10, py::arg("gradient_tolerance") = 1e-12,
-          py::arg("parameter_tolerance") = 1e-10, py::arg("num_threads") = 1,
-          py::arg("verbose") = false, py::arg("callback") = py::none(),
-          py::arg("initial_trust_region_radius") = 1e4, py::arg("damping") = "marquardt",
-          py::arg("jacobi_scaling") = true, py::arg("nonmonotonic_steps") = 0,
+          py::arg("options") = py::none(), py::arg("callback") = py::none(),
           R"doc(
 Minimises ½ Σ ρ(‖rᵢ‖²) with ⊞ steps.
 
 Parameters
 ----------
-method : {'lm', 'gn', 'gn_ls', 'dogleg'}
-    Levenberg–Marquardt, Gauss–Newton (undamped, steps that raise the cost are
-    rejected), Gauss–Newton with a backtracking line search (boxplus' own:
-    single-threaded, robust losses by reweighting; the trust-region options do
-    not apply), or Powell's dogleg.
-initial_trust_region_radius : float
-    Ceres' initial radius μ₀ (LM solves (JᵀJ + D/μ) δ = −Jᵀr); a huge value
-    (1e16) starts like Gauss–Newton and damps only after a failed step.
-damping : {'marquardt', 'levenberg'}
-    D = diag(JᵀJ) (Ceres' default) or D = I (λI, as g2o's LM).
-jacobi_scaling : bool
-    Scale the columns of J by 1/(1 + ‖J_k‖) before solving (Ceres' default).
-nonmonotonic_steps : int
-    Accept up to this many consecutive cost increases while the best cost
-    still decreases (0: monotonic).
+options : SolverOptions, optional
+    The settings (default: SolverOptions()).
 callback : callable, optional
-    Called after each iteration with a dict (iteration, cost, ...); return
-    False to stop. Ctrl-C stops the solve and keeps the last accepted estimate
-    (termination 'interrupted').
+    ``callback(info: IterationInfo)`` after each iteration; return False to
+    stop (None or True continue). Ctrl-C stops the solve and keeps the last
+    accepted estimate (termination 'interrupted').
+**overrides
+    Fields of SolverOptions that replace those of ``options``
+    (``nonmonotonic_steps=n`` sets both nonmonotonic fields).
+
+Returns
+-------
+SolveSummary
+    Raises the Python exception of a failing measurement function, manifold
+    or callback, with its traceback.
 )doc")
       .def("cost", [](Problem& p) { return RaisingPython([&] { return p.Cost(); }); },
            "½ Σ ρ(‖rᵢ‖²) at the current values.")
       .def("residual",
            [](Problem& p, int id) { return RaisingPython([&] { return p.Residual(id); }); },
            py::arg("measurement_id"), "Whitened residual of one measurement.")
-      .def("covariance", &Problem::Covariance, py::arg("id"),
-           "Marginal covariance in the variable's tangent space.")
-      .def("joint_covariance", &Problem::JointCovariance, py::arg("ids"))
+      .def(
+          "covariance",
+          [](Problem& p, int id) { return RaisingPython([&] { return p.Covariance(id); }); },
+          py::arg("id"), "Marginal covariance in the variable's tangent space.")
+      .def(
+          "joint_covariance",
+          [](Problem& p, const std::vector<int>& ids) {
+            return RaisingPython([&] { return p.JointCovariance(ids); });
+          },
+          py::arg("ids"))
       .def(
           "evaluate_jacobian",
           [](Problem& p) {

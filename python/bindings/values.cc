@@ -6,6 +6,8 @@
 // poses compose with ``a * b`` (apply b first, then a) and act on points with
 // ``a * p`` for p of shape (d,) or (N, d); ``@`` is the same operator.
 // Pose tangent order is [translation, rotation]; quaternions are [x, y, z, w].
+#include <limits>
+
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/operators.h>
@@ -276,9 +278,14 @@ A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
 )doc");
   rn.def(py::init([](const py::object& arg) {
           if (py::isinstance<py::int_>(arg)) {
-            const int n = arg.cast<int>();
-            if (n < 1) throw py::value_error("Rn(n): n must be at least 1");
-            return Rn(n);
+            int overflow = 0;
+            const long long n = PyLong_AsLongLongAndOverflow(arg.ptr(), &overflow);
+            if (n < 1 && overflow == 0) throw py::value_error("Rn(n): n must be at least 1");
+            if (overflow != 0 || n > std::numeric_limits<int>::max()) {
+              throw py::value_error("Rn(n): n = " + std::string(py::str(arg)) +
+                                    " is too large (at most 2**31 - 1)");
+            }
+            return Rn(static_cast<int>(n));
           }
           py::array_t<double, py::array::c_style | py::array::forcecast> a =
               py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arg);

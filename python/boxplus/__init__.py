@@ -9,7 +9,7 @@ The main entry point is :class:`OptimizationProblem`::
     p = boxplus.OptimizationProblem()
     x = p.add_random_var(boxplus.SE3())
     p.add_measurement(z, f, [x], constants=(...), sigma=0.5)
-    result = p.solve()
+    summary = p.solve()          # a SolveSummary; the estimates are p.X
 """
 
 from boxplus._core import (
@@ -20,7 +20,9 @@ from boxplus._core import (
     NoiseModel,
     ParseError,
     Problem,
+    IterationInfo,
     SolveSummary,
+    SolverOptions,
     __version__,
     make_manifold,
     make_product_manifold,
@@ -37,8 +39,8 @@ from boxplus.manifolds import (
     codec_of,
     make_compound,
 )
-from boxplus.problem import EvaluationError, OptimizationProblem, SolveResult
-from boxplus import batch, noise
+from boxplus.problem import EvaluationError, OptimizationProblem
+from boxplus import batch, losses, measurements, noise
 
 __all__ = [
     "S2",
@@ -50,6 +52,7 @@ __all__ = [
     "BoxplusIndexError",
     "Codec",
     "EvaluationError",
+    "IterationInfo",
     "Loss",
     "Manifold",
     "ManifoldValue",
@@ -58,10 +61,12 @@ __all__ = [
     "ParseError",
     "Problem",
     "Rn",
-    "SolveResult",
     "SolveSummary",
+    "SolverOptions",
     "__version__",
     "batch",
+    "losses",
+    "measurements",
     "noise",
     "codec_of",
     "make_compound",

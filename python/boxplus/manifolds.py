@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import abc
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar, Dict, Optional, Tuple
+from typing import Any, Callable, ClassVar, Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -152,6 +152,36 @@ class Codec:
     def ambient_size(self) -> int:
         return self.manifold.ambient_size
 
+    def tangent_scale(self, X: np.ndarray) -> np.ndarray:
+        """Per-row, per-tangent-direction magnitudes that size finite-difference steps.
+
+        ``X`` holds ambient values, one per row; the result is (N, dof): |x| (at
+        least 1) for Rⁿ coordinates, 1 for rotations and other directions.
+        """
+        X = np.asarray(X, dtype=float).reshape(-1, self.ambient_size)
+        t = self.value_type
+        if t is Rn:
+            return np.maximum(1.0, np.abs(X))
+        if isinstance(t, type) and issubclass(t, _CompoundBase):
+            return np.concatenate(
+                [t._member_codecs[n].tangent_scale(X[:, t._ambient_offsets[n]:
+                                                    t._ambient_offsets[n] + t._member_codecs[n].ambient_size])
+                 for n in t._members], axis=1)
+        return np.ones((X.shape[0], self.dof))
+
+    def labels(self) -> List[str]:
+        """Names of the tangent directions, for reports (SE3: p.x ... θ.z)."""
+        t = self.value_type
+        if t is SE3:
+            return ["p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z"]
+        if isinstance(t, type) and issubclass(t, _CompoundBase):
+            out: List[str] = []
+            for m in t.members():
+                n = t.slice_of(m).stop - t.slice_of(m).start
+                out += [m] if n == 1 else [f"{m}[{i}]" for i in range(n)]
+            return out
+        return [f"[{i}]" for i in range(self.dof)]
+
 
 _BUILTIN = (SO2, SO3, SE2, SE3, S2)
 _codec_cache: Dict[Tuple[Any, ...], Codec] = {}
@@ -180,7 +210,11 @@ def _python_codec(cls: type, ambient_size: int) -> Codec:
     if key not in _codec_cache:
 
         def plus(x: np.ndarray, d: np.ndarray) -> np.ndarray:
-            return cls.from_ambient(x).boxplus(d).to_ambient()
+            y = cls.from_ambient(x).boxplus(d)
+            if not isinstance(y, ManifoldValue):  # a common slip: returning the ambient vector
+                raise TypeError(f"{cls.__name__}.boxplus returned a {type(y).__name__}, "
+                                f"expected a {cls.__name__}")
+            return y.to_ambient()
 
         def minus(y: np.ndarray, x: np.ndarray) -> np.ndarray:
             return cls.from_ambient(y).boxminus(cls.from_ambient(x))

@@ -32,6 +32,8 @@ NoiseModel = _core.NoiseModel
 
 
 def _array(value: Any, keyword: str, what: str) -> np.ndarray:
+    if isinstance(value, (str, bytes, dict)) or np.iscomplexobj(value):
+        raise TypeError(f"{what}: {keyword} must be real numbers, got {type(value).__name__}")
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
@@ -54,6 +56,8 @@ def noise_model(
     Exactly one of ``sigma``, ``covariance``, ``information`` and ``noise`` may
     be given (none: σ = 1). Raises ValueError or TypeError naming ``what``.
     """
+    if isinstance(dim, bool) or not isinstance(dim, (int, np.integer)) or dim < 1:
+        raise ValueError(f"{what}: an error has at least one entry, got dimension {dim!r}")
     given = [k for k, v in (("sigma", sigma), ("covariance", covariance),
                             ("information", information), ("noise", noise)) if v is not None]
     if len(given) > 1:

@@ -86,6 +86,6 @@ def test_bad_input_raises_clear_errors():
     with pytest.raises(ValueError, match="54 board points"):
         calibrate_mono([L[0][:50]] + L[1:], obj, size)
     with pytest.raises(ValueError, match="not positive definite"):
-        calibrate_mono(L, obj, size, sigma=np.array([[1.0, 2.0], [2.0, 1.0]]))
+        calibrate_mono(L, obj, size, covariance=np.array([[1.0, 2.0], [2.0, 1.0]]))
     with pytest.raises(ValueError, match="13 left and 12 right"):
         calibrate_stereo(L, R[:12], obj, size)

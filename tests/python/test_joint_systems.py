@@ -8,7 +8,7 @@ import boxplus as bp
 from boxplus.batch import view
 from boxplus.joint import ActiveTriangulation, RangeFinder, RobotArm, StereoPair, camera, project
 from boxplus.manifolds import codec_of
-from boxplus.problem import _REL_STEP, _tangent_scale
+from boxplus.measurements import _REL_STEP
 
 CAM1 = camera(610.0, 322.0, 236.0, -0.12)
 CAM2 = camera(595.0, 317.0, 243.0, -0.09)
@@ -67,7 +67,7 @@ def _numeric_jacobian(system, U, name, step_scale):
     """∂I/∂δ of parameter ``name`` by central differences with the solver's step × step_scale."""
     x = system.parameters[name]
     c = codec_of(x)
-    h = _REL_STEP * step_scale * _tangent_scale(c, x.ambient[None, :])[0]
+    h = _REL_STEP * step_scale * c.tangent_scale(x.ambient[None, :])[0]
     J = np.empty((len(U), 3, c.dof))
     for j in range(c.dof):
         d = np.zeros(c.dof)

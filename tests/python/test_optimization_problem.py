@@ -127,8 +127,8 @@ def test_python_measurement_matches_cpp_prior_including_covariance():
     a, b = bp.OptimizationProblem(), bp.OptimizationProblem()
     xa, xb = a.add_random_var(bp.SE3()), b.add_random_var(bp.SE3())
     for z in zs:
-        a.add_measurement(z, lambda x: x, [xa], sigma=Sigma)
-        b.add_prior(xb, z, sigma=Sigma)
+        a.add_measurement(z, lambda x: x, [xa], covariance=Sigma)
+        b.add_prior(xb, z, covariance=Sigma)
     a.solve(function_tolerance=1e-14)
     b.solve(function_tolerance=1e-14)
     assert np.linalg.norm(a[xa] - b[xb]) < 1e-8
@@ -261,9 +261,9 @@ def test_add_measurement_validates_inputs():
     with pytest.raises(TypeError, match="'bad type'.*expected a SO3"):
         p.add_measurement(bp.SO3(), lambda v: v.vec, [x], name="bad type")
     with pytest.raises(ValueError, match="'bad sigma'.*not positive definite"):
-        p.add_measurement([0, 0], lambda v: v.vec, [x], sigma=np.array([[1.0, 2], [2, 1]]), name="bad sigma")
+        p.add_measurement([0, 0], lambda v: v.vec, [x], covariance=np.array([[1.0, 2], [2, 1]]), name="bad sigma")
     with pytest.raises(ValueError, match="not symmetric"):
-        p.add_measurement([0, 0], lambda v: v.vec, [x], sigma=np.array([[1.0, 0.5], [0, 1]]))
+        p.add_measurement([0, 0], lambda v: v.vec, [x], covariance=np.array([[1.0, 0.5], [0, 1]]))
     with pytest.raises(IndexError, match="'bad id'.*unknown variable id 7"):
         p.add_measurement([0, 0], lambda v: v.vec, [7], name="bad id")
     with pytest.raises(ValueError, match="constant 0 must have first dimension N = 3"):
@@ -327,5 +327,73 @@ def test_callback_can_stop_the_solve():
     p = bp.OptimizationProblem()
     x = p.add_random_var(bp.Rn([3.0]))
     p.add_measurement([1.0], lambda v: v.vec**3, [x])
-    r = p.solve(callback=lambda info: info["iteration"] < 2)
+    r = p.solve(callback=lambda info: info.iteration < 2)
     assert r.termination == "interrupted" and r.iterations == 2
+
+
+def test_rms_of_every_group_is_in_the_measurements_units():
+    """add_projection used to report its RMS whitened: now every group is in pixels."""
+    p = bp.OptimizationProblem()
+    k = p.add_random_var(bp.Rn([500.0, 500.0, 320.0, 240.0]), fixed=True, name="k")
+    world_from_rig = p.add_random_var(bp.SE3(), fixed=True)
+    cam_from_rig = p.add_random_var(bp.SE3(), fixed=True)
+    p.add_projection([323.0, 244.0], k, world_from_rig, cam_from_rig, [0.0, 0.0, 5.0], sigma=2.0,
+                     model="pinhole")
+    p.add_board(np.array([[320.0, 240.0], [326.0, 248.0]]), k, world_from_rig, cam_from_rig,
+                np.array([[0.0, 0.0, 5.0], [0.0, 0.0, 5.0]]), covariance=np.diag([4.0, 9.0]),
+                model="pinhole")
+    x = p.add_random_var(bp.Rn([1.0]))
+    p.add_prior(x, bp.Rn([4.0]), sigma=0.5)
+    p.add_measurement([7.0], lambda v: v.vec, [x], information=[[16.0]], name="direct")
+    rms = p.rms()
+    assert rms["projection[pinhole]"] == pytest.approx(5.0)
+    assert rms["board[pinhole]"] == pytest.approx(np.sqrt((0 + 100) / 2))
+    assert rms["prior"] == pytest.approx(3.0)
+    assert rms["<lambda>"] == pytest.approx(6.0)
+    white = p.rms(whitened=True)
+    assert white["projection[pinhole]"] == pytest.approx(2.5)
+    assert white["prior"] == pytest.approx(6.0) and white["<lambda>"] == pytest.approx(24.0)
+    assert np.allclose(p.measurement_errors(0), [[-3.0, -4.0]])
+
+
+def test_one_noise_vocabulary_for_every_add():
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn([0.0, 0.0]))
+    S = np.array([[4.0, 1.0], [1.0, 2.0]])
+    forms = [dict(sigma=[2.0, np.sqrt(2.0)]), dict(covariance=S), dict(information=np.linalg.inv(S)),
+             dict(noise=bp.NoiseModel.covariance(S))]
+    mids = [p.add_measurement([1.0, 2.0], lambda v: v.vec, x, **kw) for kw in forms]
+    mids += list(p.add_measurements(np.tile([1.0, 2.0], (3, 1)), lambda v: v.vec, [[x]] * 3,
+                                    covariance=np.stack([S] * 3)))
+    mids.append(p.add_prior(x, bp.Rn([1.0, 2.0]), covariance=S))
+    e = np.array([-1.0, -2.0])  # x ⊟ z at x = 0
+    for mid in mids[1:]:  # every form of the same Σ gives r with ‖r‖² = eᵀ Σ⁻¹ e
+        r = p.residual(mid)
+        assert r @ r == pytest.approx(e @ np.linalg.solve(S, e)), mid
+    assert np.allclose(p.residual(mids[0]), e / [2.0, np.sqrt(2.0)])
+    with pytest.raises(ValueError, match="sigma is a 2×2 matrix; a full covariance is given as covariance="):
+        p.add_measurement([1.0, 2.0], lambda v: v.vec, x, sigma=S)
+    with pytest.raises(ValueError, match="give one of sigma, covariance"):
+        p.add_prior(x, bp.Rn([1.0, 2.0]), sigma=1.0, covariance=S)
+    with pytest.raises(ValueError, match=r"per-measurement covariance must have shape \(3, 2, 2\)"):
+        p.add_measurements(np.ones((3, 2)), lambda v: v.vec, [[x]] * 3, covariance=np.stack([S] * 2))
+
+
+def test_solve_returns_the_bound_summary_and_the_estimates_stay_in_the_problem():
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn([3.0]))
+    p.add_measurement([8.0], lambda v: v.vec**3, [x])
+    s = p.solve(bp.SolverOptions(method="dogleg"), function_tolerance=1e-14)
+    assert isinstance(s, bp.SolveSummary) and not hasattr(s, "X")
+    assert p.X[x].vec == pytest.approx([2.0])
+
+
+def test_codec_and_labels_are_public():
+    p = bp.OptimizationProblem()
+    T = p.add_random_var(bp.SE3())
+    assert p.codec(T).dof == 6 and p.labels(T)[:3] == ["p.x", "p.y", "p.z"]
+    with pytest.raises(IndexError, match="unknown variable id 5"):
+        p.codec(5)
+    X = np.array([[1.0, -30.0, 0.01], [0.0, 2.0, -5.0]])
+    assert np.allclose(bp.codec_of(bp.Rn(3)).tangent_scale(X), np.maximum(1.0, np.abs(X)))
+    assert np.allclose(bp.codec_of(bp.SO3()).tangent_scale(np.tile(bp.SO3().ambient, (2, 1))), 1.0)

@@ -63,7 +63,7 @@ def test_callback_can_stop_and_errors_propagate():
     x = p.add_variable(bp.SO3.manifold(), bp.SO3().ambient)
     p.add_prior(x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, bp.NoiseModel.unit(3))
     seen = []
-    s = p.solve(callback=lambda info: seen.append(info["cost"]) or False)
+    s = p.solve(callback=lambda info: seen.append(info.cost) or False)
     assert s.termination == "interrupted" and s.usable and len(seen) == 1
 
     def boom(info):
@@ -90,11 +90,17 @@ def test_sigint_during_a_solve_returns_the_best_estimate(tmp_path):
     for _ in range(20):
         p.add_measurement([1.0, -1.0], slow_cube, [x])
     initial = p.cost()
-    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
-    timer.start()
+    # The signal is sent once a step has been accepted (a fixed delay would
+    # depend on the machine's load), and lands while the measurements run.
+    timer = threading.Timer(0.02, os.kill, (os.getpid(), signal.SIGINT))
+
+    def arm(info):
+        if info.iteration == 1:
+            timer.start()
+
     try:
         r = p.solve(max_iterations=10_000, function_tolerance=0, gradient_tolerance=0,
-                    parameter_tolerance=0)
+                    parameter_tolerance=0, callback=arm)
     finally:
         timer.cancel()
     assert r.termination == "interrupted" and r.usable

@@ -30,8 +30,9 @@ def plot_reprojection_errors(o, path: str, mids: Optional[Mapping[str, Sequence[
     plt = _plt()
     if mids is None:
         mids = {}
-        for mid in o._cpp_W:
-            mids.setdefault(o.measurement_group(mid), []).append(mid)
+        for mid in o.builtin_measurements():
+            if o.measurement_group(mid) != "prior":
+                mids.setdefault(o.measurement_group(mid), []).append(mid)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     x0 = 0
     for label, ids in mids.items():

@@ -90,7 +90,7 @@ def _display_values(o, vid: int) -> np.ndarray:
     if isinstance(v, SO3):
         return v.log()
     a = np.asarray(v.ambient, float)
-    return a if a.size == o._codec(vid).dof else np.full(o._codec(vid).dof, np.nan)
+    return a if a.size == o.codec(vid).dof else np.full(o.codec(vid).dof, np.nan)
 
 
 def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1e-5,

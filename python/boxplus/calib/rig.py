@@ -12,12 +12,13 @@ k1 k2 p1 p2 k3; "radial2" k1 k2; "radial1" k1).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from boxplus.manifolds import SE3, Rn
-from boxplus.problem import OptimizationProblem, SolveResult
+from boxplus._core import SolveSummary
+from boxplus.problem import OptimizationProblem
 from boxplus.calib.init import (
     CAMERA_LABELS, camera_matrix, check_views, init_camera, intrinsics_vector, relative_pose_init,
 )
@@ -40,7 +41,7 @@ class Calibration:
     model: str
     ids: Dict[str, int]
     view_ids: Dict[str, List[int]] = field(default_factory=dict)
-    result: Optional[SolveResult] = None
+    result: Optional[SolveSummary] = None
 
     def camera(self, name: str) -> Tuple[np.ndarray, np.ndarray]:
         """(K, OpenCV distortion) of a camera."""
@@ -64,8 +65,8 @@ def _camera_init(image_points, object_points, image_size, camera):
 
 
 def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray,
-                   image_size: Tuple[int, int], model: str = "opencv5", sigma: float = 1.0,
-                   name: str = "camera", solve: bool = True) -> Calibration:
+                   image_size: Tuple[int, int], model: str = "opencv5", sigma: Any = 1.0,
+                   name: str = "camera", solve: bool = True, covariance: Any = None) -> Calibration:
     """One camera from views of a planar board (Zhang's initial values, then ML)."""
     pts, K, board2cam = _camera_init(image_points, object_points, image_size, name)
     o = OptimizationProblem()
@@ -74,8 +75,9 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
     mids = []
     for i, (p, pose) in enumerate(zip(pts, board2cam)):
         x2world = o.add_random_var(pose.inverse(), name=f"{name}2world_{i}")
-        mids.append(o.add_board(p, cam, x2world, ident, object_points, sigma=sigma, model=model,
-                                group=name))
+        mids.append(o.add_board(p, cam, x2world, ident, object_points,
+                                sigma=None if covariance is not None else sigma,
+                                covariance=covariance, model=model, group=name))
     cal = Calibration(o, model, {name: cam}, {name: mids})
     if solve:
         cal.result = o.solve()

@@ -15,7 +15,8 @@ from typing import Any, Callable, List, Optional
 import numpy as np
 
 from boxplus.manifolds import SE3, SO3, S2, Rn, _CompoundBase
-from boxplus.problem import EvaluationError, OptimizationProblem, SolveResult
+from boxplus._core import SolveSummary
+from boxplus.problem import EvaluationError, OptimizationProblem
 
 __all__ = ["RestartResult", "default_perturbation", "solve_with_restarts"]
 
@@ -44,7 +45,7 @@ class RestartResult:
 
     Attributes
     ----------
-    best : SolveResult
+    best : SolveSummary
         The solve that reached the lowest cost (its values are in the problem).
     best_cost : float
         ½ Σ ρ(‖r‖²) at the returned estimate.
@@ -52,7 +53,7 @@ class RestartResult:
         Final cost of every solve, the first being the plain single solve.
     """
 
-    best: SolveResult
+    best: SolveSummary
     best_cost: float
     costs: List[float] = field(default_factory=list)
 

@@ -1,4 +1,4 @@
-#include "boxplus/cached_cost.h"
+#include "cached_cost.h"
 
 #include <algorithm>
 
