@@ -377,6 +377,10 @@ class OptimizationProblem:
             return out
         return [f"[{i}]" for i in range(codec.dof)]
 
+    def codec(self, vid: int) -> Codec:
+        """The :class:`~boxplus.manifolds.Codec` of variable ``vid`` (IndexError for unknown ids)."""
+        return self._codec(vid)
+
     def _codec(self, vid: int) -> Codec:
         if not isinstance(vid, (int, np.integer)) or not 0 <= vid < len(self._codecs):
             raise IndexError(f"unknown variable id {vid!r} (the problem has {len(self._codecs)})")
