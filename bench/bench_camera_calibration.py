@@ -21,15 +21,14 @@ from scipy.spatial.transform import Rotation
 
 import boxplus as bp
 from boxplus.calib import init_camera
+from boxplus.geometry import project_pinhole
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
 intrinsic_t = bp.make_compound("intrinsic_t", focal_length=bp.Rn(1), offset=bp.Rn(2), distortion=bp.Rn(1))
 
 
 def pinhole(f, c, k1, p_cam):
-    x = p_cam[..., :2] / p_cam[..., 2:3]
-    r2 = np.sum(x * x, axis=-1, keepdims=True)
-    return f * x * (1 + k1 * r2) + c
+    return project_pinhole(p_cam, f, c, k1=k1)
 
 
 def project_points(intrinsic, cam2world, p_world):

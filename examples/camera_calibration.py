@@ -26,15 +26,14 @@ import numpy as np
 
 import boxplus as bp
 from boxplus.calib import init_camera
+from boxplus.geometry import project_pinhole
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
 
 
 def pinhole(focal_length, offset, distortion, p_cam):
     """Projects camera-frame points (..., 3) to pixels (..., 2)."""
-    x = p_cam[..., :2] / p_cam[..., 2:3]
-    r2 = np.sum(x * x, axis=-1, keepdims=True)
-    return focal_length * x * (1 + distortion * r2) + offset
+    return project_pinhole(p_cam, focal_length, offset, k1=distortion)
 
 
 def project_point(intrinsic, x2world, x2cam, p_world):

@@ -34,6 +34,7 @@ from boxplus.joint import (
     camera, cross_validate, project,
 )
 from boxplus.batch import view
+from boxplus.geometry import look_at
 from boxplus.manifolds import codec_of
 
 # ---- the true robot -------------------------------------------------------------------
@@ -45,15 +46,6 @@ SQUARE, BOARD = 0.04, (4, 3)  # checkerboard: square (m), corners
 LIT_CORNERS = 3  # corners of a board view the laser is aimed at (it cannot light them all)
 # noise of a point of each kind of system (m): weights of the terms
 SIGMA_POINT = {"stereo": 1.5e-3, "laser": 1.0e-3, "arm": 0.3e-3}
-
-
-def look_at(position, target, up=(0.0, 0.0, 1.0)) -> bp.SE3:
-    """world_from_cam of a camera at ``position`` looking at ``target`` (x right, y down, z forward)."""
-    z = np.asarray(target, float) - position
-    z /= np.linalg.norm(z)
-    x = np.cross(z, up)
-    x /= np.linalg.norm(x)
-    return bp.SE3(np.column_stack([x, np.cross(z, x), z]), position)
 
 
 def make_robot(rng):

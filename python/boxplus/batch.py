@@ -25,11 +25,11 @@ Every batch has ``.ambient`` (N, ambient size), the solver's storage layout.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable, Dict, Optional
 
 import numpy as np
 
-from boxplus.manifolds import SE2, SE3, SO2, SO3, S2, Codec, Rn, _CompoundBase
+from boxplus.manifolds import SE2, SE3, SO2, SO3, S2, Codec
 
 __all__ = [
     "CompoundBatch",
@@ -39,6 +39,7 @@ __all__ = [
     "SE3Batch",
     "SO2Batch",
     "SO3Batch",
+    "builtin_view",
     "quat_to_matrix",
     "matrix_to_quat",
     "view",
@@ -115,6 +116,12 @@ class RnBatch:
     def ambient(self) -> np.ndarray:
         return self.vec
 
+    def perturbed(self, direction: int, h: np.ndarray) -> "RnBatch":
+        """This batch ⊞ (h · e_direction): h (N,) added to one coordinate."""
+        v = self.vec.copy()
+        v[:, direction] += h
+        return RnBatch(v)
+
     def __len__(self) -> int:
         return self.vec.shape[0]
 
@@ -185,6 +192,12 @@ class SO3Batch:
         return np.einsum("nij,nj->ni", self.R, _points(other, len(self), 3))
 
     __matmul__ = __mul__
+
+    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SO3Batch"]:
+        """R · exp(h e_direction) when the step h (N,) is the same in every row; None otherwise."""
+        if not np.all(h == h[0]):
+            return None
+        return SO3Batch.from_matrix(self.R @ _small_rotation(direction, h[0]))
 
     def __len__(self) -> int:
         return (self._quat if self._quat is not None else self._R).shape[0]
@@ -275,12 +288,25 @@ class SE3Batch:
 
     __matmul__ = __mul__
 
+    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SE3Batch"]:
+        """This batch ⊞ (h · e_direction), tangent [translation, rotation], when the
+        step h (N,) is the same in every row; None otherwise."""
+        if direction < 3:
+            pos = self.pos.copy()
+            pos[:, direction] += h
+            return SE3Batch(pos, self.rot)
+        rot = self.rot.perturbed(direction - 3, h)
+        return None if rot is None else SE3Batch(self.pos, rot)
+
     def __len__(self) -> int:
         return self.pos.shape[0]
 
 
 class S2Batch(RnBatch):
     """N unit vectors: ``.vec`` (N, 3) (stored like Rⁿ rows)."""
+
+    def perturbed(self, direction: int, h: np.ndarray) -> None:
+        return None  # ⊞ of S² is not a coordinate step: the solver's ⊞ is used
 
 
 class CompoundBatch:
@@ -289,10 +315,8 @@ class CompoundBatch:
     def __init__(self, cls: type, ambient: np.ndarray) -> None:
         self._cls = cls
         self._ambient = ambient
-        for name in cls._members:
-            c = cls._member_codecs[name]
-            start = cls._ambient_offsets[name]
-            setattr(self, name, view(c, ambient[:, start : start + c.ambient_size]))
+        for m in cls._codec().parts():
+            setattr(self, m.name, m.codec.view(ambient[:, m.ambient]))
 
     @property
     def ambient(self) -> np.ndarray:
@@ -314,39 +338,25 @@ def _small_rotation(axis: int, h: float) -> np.ndarray:
 def perturbed_view(codec: Codec, base: Any, direction: int, h: np.ndarray) -> Any:
     """The batch of base ⊞ (h · e_direction), built from the unperturbed batch
     without a round trip through quaternions where the kind allows it (Rn, SO3,
-    SE3 with a step h that is the same for all rows); None otherwise."""
-    t = codec.value_type
-    if t is Rn:
-        v = base.vec.copy()
-        v[:, direction] += h
-        return RnBatch(v)
-    uniform = np.all(h == h[0])
-    if t is SO3 and uniform:
-        return SO3Batch.from_matrix(base.R @ _small_rotation(direction, h[0]))
-    if t is SE3 and uniform:
-        if direction < 3:
-            pos = base.pos.copy()
-            pos[:, direction] += h[0]
-            return SE3Batch(pos, base.rot)
-        return SE3Batch(base.pos, SO3Batch.from_matrix(base.R @ _small_rotation(direction - 3, h[0])))
-    return None
+    SE3 with a step h that is the same for all rows); None otherwise
+    (:meth:`Codec.perturbed_view`)."""
+    return codec.perturbed_view(base, direction, h)
 
 
 def view(codec: Codec, X: np.ndarray) -> Any:
-    """The batch of values stored in the rows of X (N, ambient size)."""
-    t = codec.value_type
-    if t is Rn:
-        return RnBatch(X)
-    if t is SO3:
-        return SO3Batch(X)
-    if t is SE3:
-        return SE3Batch.from_ambient(X)
-    if t is SO2:
-        return SO2Batch(X[:, 0])
-    if t is SE2:
-        return SE2Batch(X[:, :2], X[:, 2])
-    if t is S2:
-        return S2Batch(X)
-    if isinstance(t, type) and issubclass(t, _CompoundBase):
-        return CompoundBatch(t, X)
-    return [codec.from_ambient(row) for row in X]
+    """The batch of values stored in the rows of X (N, ambient size) (:meth:`Codec.view`)."""
+    return codec.view(X)
+
+
+_BUILTIN_VIEWS: Dict[type, Callable[[np.ndarray], Any]] = {
+    SO2: lambda X: SO2Batch(X[:, 0]),
+    SO3: SO3Batch,
+    SE2: lambda X: SE2Batch(X[:, :2], X[:, 2]),
+    SE3: SE3Batch.from_ambient,
+    S2: S2Batch,
+}
+
+
+def builtin_view(value_type: type, X: np.ndarray) -> Any:
+    """The batch of a C++ built-in kind (SO2, SO3, SE2, SE3, S2) from ambient rows X."""
+    return _BUILTIN_VIEWS[value_type](X)

@@ -29,6 +29,7 @@ from boxplus._core import S2, SE2, SE3, SO2, SO3, Rn
 
 __all__ = [
     "Codec",
+    "CodecPart",
     "ManifoldValue",
     "Rn",
     "S2",
@@ -122,7 +123,12 @@ class ManifoldValue(abc.ABC):
 
 @dataclass(frozen=True)
 class Codec:
-    """How values of one type map to the solver's storage.
+    """How values of one type map to the solver's storage, and what callers
+    need to know about that type without switching on it.
+
+    Subclasses carry the kind-specific behaviour (Rⁿ, the C++ built-ins,
+    compounds); the base class is the behaviour of a Python
+    :class:`ManifoldValue`.
 
     Attributes
     ----------
@@ -152,46 +158,139 @@ class Codec:
     def ambient_size(self) -> int:
         return self.manifold.ambient_size
 
-    def tangent_scale(self, X: np.ndarray) -> np.ndarray:
-        """Per-row, per-tangent-direction magnitudes that size finite-difference steps.
+    @property
+    def is_euclidean(self) -> bool:
+        """True when ⊞ is + and ⊟ is − on the ambient vector (Rⁿ)."""
+        return False
 
-        ``X`` holds ambient values, one per row; the result is (N, dof): |x| (at
-        least 1) for Rⁿ coordinates, 1 for rotations and other directions.
-        """
-        X = np.asarray(X, dtype=float).reshape(-1, self.ambient_size)
-        t = self.value_type
-        if t is Rn:
-            return np.maximum(1.0, np.abs(X))
-        if isinstance(t, type) and issubclass(t, _CompoundBase):
-            return np.concatenate(
-                [t._member_codecs[n].tangent_scale(X[:, t._ambient_offsets[n]:
-                                                    t._ambient_offsets[n] + t._member_codecs[n].ambient_size])
-                 for n in t._members], axis=1)
+    def parts(self) -> Tuple["CodecPart", ...]:
+        """The members of a compound with their slices; () for other kinds."""
+        return ()
+
+    def tangent_scale(self, X: np.ndarray) -> np.ndarray:
+        """Magnitudes (N, dof) of the values in the rows of X (N, ambient size),
+        per tangent direction, that size finite-difference steps: max(1, |x|)
+        for Rⁿ coordinates, member by member for compounds, 1 for directions of
+        rotation-like kinds (their tangent is already scale-free)."""
         return np.ones((X.shape[0], self.dof))
 
     def labels(self) -> List[str]:
-        """Names of the tangent directions, for reports (SE3: p.x ... θ.z)."""
-        t = self.value_type
-        if t is SE3:
-            return ["p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z"]
-        if isinstance(t, type) and issubclass(t, _CompoundBase):
-            out: List[str] = []
-            for m in t.members():
-                n = t.slice_of(m).stop - t.slice_of(m).start
-                out += [m] if n == 1 else [f"{m}[{i}]" for i in range(n)]
-            return out
+        """Names of the tangent directions, for reports: "[i]" unless the kind
+        names them (SE3: p.x … θ.z, compounds: their members)."""
         return [f"[{i}]" for i in range(self.dof)]
+
+    def plus_batch(self, X: np.ndarray, D: np.ndarray) -> np.ndarray:
+        """Rows X ⊞ D (N, ambient size) for steps D (N, dof)."""
+        return self.manifold.plus_batch(X, D)
+
+    def view(self, X: np.ndarray) -> Any:
+        """The batch of the values stored in the rows of X (:mod:`boxplus.batch`)."""
+        return [self.from_ambient(row) for row in X]
+
+    def perturbed_view(self, base: Any, direction: int, h: np.ndarray) -> Any:
+        """The batch of ``base`` ⊞ (h · e_direction) built from the unperturbed batch
+        without a round trip through the ambient storage, where the batch kind
+        allows it; None otherwise (then use :meth:`plus_batch`)."""
+        perturbed = getattr(base, "perturbed", None)
+        return perturbed(direction, h) if perturbed is not None else None
+
+    def display(self, value: Any) -> np.ndarray:
+        """Numbers shown beside the tangent directions in reports (dof,): the
+        coordinates where the ambient vector is the tangent, NaN otherwise."""
+        a = np.asarray(self.to_ambient(value), dtype=float)
+        return a if a.size == self.dof else np.full(self.dof, np.nan)
+
+
+@dataclass(frozen=True, eq=False)  # slices are unhashable: identity semantics
+class CodecPart:
+    """A member of a compound: its name, codec and slices of the stacked
+    ambient and tangent vectors."""
+
+    name: str
+    codec: Codec
+    ambient: slice
+    tangent: slice
+
+
+@dataclass(frozen=True)
+class _RnCodec(Codec):
+    @property
+    def is_euclidean(self) -> bool:
+        return True
+
+    def tangent_scale(self, X: np.ndarray) -> np.ndarray:
+        return np.maximum(1.0, np.abs(X))
+
+    def plus_batch(self, X: np.ndarray, D: np.ndarray) -> np.ndarray:
+        return X + D  # ⊞ of Rⁿ is +: no round trip through C++
+
+    def view(self, X: np.ndarray) -> Any:
+        from boxplus.batch import RnBatch
+
+        return RnBatch(X)
+
+    def display(self, value: Any) -> np.ndarray:
+        return np.asarray(value.vec, dtype=float)
+
+
+@dataclass(frozen=True)
+class _BuiltinCodec(Codec):
+    tangent_labels: Tuple[str, ...] = ()
+    chart: Optional[Callable[[Any], np.ndarray]] = None  # value → tangent at the identity
+
+    def labels(self) -> List[str]:
+        return list(self.tangent_labels) or super().labels()
+
+    def view(self, X: np.ndarray) -> Any:
+        from boxplus.batch import builtin_view
+
+        return builtin_view(self.value_type, X)
+
+    def display(self, value: Any) -> np.ndarray:
+        return self.chart(value) if self.chart is not None else super().display(value)
+
+
+@dataclass(frozen=True)
+class _CompoundCodec(Codec):
+    members: Tuple[CodecPart, ...] = ()
+
+    def parts(self) -> Tuple[CodecPart, ...]:
+        return self.members
+
+    def tangent_scale(self, X: np.ndarray) -> np.ndarray:
+        return np.concatenate([m.codec.tangent_scale(X[:, m.ambient]) for m in self.members], axis=1)
+
+    def labels(self) -> List[str]:
+        out: List[str] = []
+        for m in self.members:
+            n = m.codec.dof
+            out += [m.name] if n == 1 else [f"{m.name}[{i}]" for i in range(n)]
+        return out
+
+    def view(self, X: np.ndarray) -> Any:
+        from boxplus.batch import CompoundBatch
+
+        return CompoundBatch(self.value_type, X)
+
+    def display(self, value: Any) -> np.ndarray:
+        return np.concatenate([m.codec.display(getattr(value, m.name)) for m in self.members])
 
 
 _BUILTIN = (SO2, SO3, SE2, SE3, S2)
 _codec_cache: Dict[Tuple[Any, ...], Codec] = {}
+_LABELS = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
+_CHARTS: Dict[type, Callable[[Any], np.ndarray]] = {
+    SE3: lambda v: np.concatenate([v.pos, v.rot.log()]),
+    SO3: lambda v: v.log(),
+}
 
 
 def _builtin_codec(cls: type) -> Codec:
     key = (cls,)
     if key not in _codec_cache:
-        _codec_cache[key] = Codec(
-            cls.__name__, cls.manifold(), cls, cls.from_ambient, lambda v: v.ambient
+        _codec_cache[key] = _BuiltinCodec(
+            cls.__name__, cls.manifold(), cls, cls.from_ambient, lambda v: v.ambient,
+            _LABELS.get(cls, ()), _CHARTS.get(cls),
         )
     return _codec_cache[key]
 
@@ -199,7 +298,7 @@ def _builtin_codec(cls: type) -> Codec:
 def _rn_codec(n: int) -> Codec:
     key = (Rn, n)
     if key not in _codec_cache:
-        _codec_cache[key] = Codec(
+        _codec_cache[key] = _RnCodec(
             f"Rn({n})", _core.make_manifold("Rn", n), Rn, Rn, lambda v: v.vec
         )
     return _codec_cache[key]
@@ -317,7 +416,13 @@ class _CompoundBase(ManifoldValue):
     def _codec(cls) -> Codec:
         if cls._compound_codec is None:
             manifold = _core.make_product_manifold([cls._member_codecs[n].manifold for n in cls._members])
-            cls._compound_codec = Codec(cls.__name__, manifold, cls, cls.from_ambient, cls.to_ambient)
+            parts = tuple(
+                CodecPart(n, c, slice(cls._ambient_offsets[n], cls._ambient_offsets[n] + c.ambient_size),
+                          cls.slice_of(n))
+                for n, c in ((n, cls._member_codecs[n]) for n in cls._members)
+            )
+            cls._compound_codec = _CompoundCodec(cls.__name__, manifold, cls, cls.from_ambient, cls.to_ambient,
+                                                 parts)
         return cls._compound_codec
 
     def __setattr__(self, name: str, value: Any) -> None:

@@ -155,3 +155,63 @@ def test_product_manifold_is_memberwise(kinds, data):
     expected = np.concatenate([(v + dd).ambient for v, dd in zip(xs, ds)])
     assert np.allclose(out, expected)
     assert np.allclose(m.minus(out, x), d, atol=1e-7 * max(1.0, np.abs(x).max()))
+
+
+# ---- codecs: what callers ask of a type instead of switching on it ------------------
+
+def test_codec_labels_name_the_tangent_directions():
+    from boxplus.manifolds import codec_of
+
+    assert codec_of(bp.SE3()).labels() == ["p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z"]
+    assert codec_of(bp.Rn(2)).labels() == ["[0]", "[1]"]
+    assert codec_of(bp.SO3()).labels() == ["[0]", "[1]", "[2]"]
+    C = bp.make_compound("C_labels", f=bp.Rn(1), c=bp.Rn(2), pose=bp.SE3())
+    assert codec_of(C()).labels() == ["f", "c[0]", "c[1]"] + [f"pose[{i}]" for i in range(6)]
+
+
+def test_codec_tangent_scale_is_per_row_and_member_wise():
+    from boxplus.manifolds import codec_of
+
+    X = np.array([[0.5, -3.0], [10.0, 0.0]])
+    np.testing.assert_array_equal(codec_of(bp.Rn(2)).tangent_scale(X), [[1.0, 3.0], [10.0, 1.0]])
+    se3 = codec_of(bp.SE3())
+    np.testing.assert_array_equal(se3.tangent_scale(np.tile(bp.SE3().ambient, (3, 1))), np.ones((3, 6)))
+    C = bp.make_compound("C_scale", k=bp.Rn(1), q=bp.SO3(), v=bp.Rn(2))
+    c = codec_of(C())
+    A = np.stack([C(k=[5.0], v=[0.1, -7.0]).to_ambient(), C(k=[-0.2]).to_ambient()])
+    np.testing.assert_array_equal(c.tangent_scale(A), [[5.0, 1, 1, 1, 1.0, 7.0], [1.0, 1, 1, 1, 1.0, 1.0]])
+
+
+def test_codec_parts_plus_batch_views_and_display():
+    from boxplus import batch
+    from boxplus.manifolds import codec_of
+
+    rn, se3 = codec_of(bp.Rn(3)), codec_of(bp.SE3())
+    assert rn.is_euclidean and not se3.is_euclidean
+    X, D = np.ones((2, 3)), np.arange(6.0).reshape(2, 3)
+    np.testing.assert_array_equal(rn.plus_batch(X, D), X + D)
+    T = bp.SE3(bp.SO3.exp([0.1, 0.2, 0.3]), [1.0, 2, 3])
+    d = np.array([0.01, -0.02, 0.03, 0.1, 0.0, -0.1])
+    np.testing.assert_allclose(se3.plus_batch(T.ambient[None], d[None])[0], (T + d).ambient, atol=1e-15)
+    np.testing.assert_allclose(se3.display(T), np.r_[T.pos, T.rot.log()])
+    C = bp.make_compound("C_parts", a=bp.Rn(2), T=bp.SE3())
+    c = codec_of(C())
+    assert [(p.name, p.ambient, p.tangent) for p in c.parts()] == [
+        ("a", slice(0, 2), slice(0, 2)), ("T", slice(2, 9), slice(2, 8))]
+    assert rn.parts() == ()
+    v = C(a=[1.0, 2.0], T=T)
+    np.testing.assert_allclose(c.display(v), np.r_[1.0, 2.0, T.pos, T.rot.log()])
+    assert np.all(np.isnan(codec_of(bp.S2([0, 0, 1.0])).display(bp.S2([0, 0, 1.0]))))
+    B = c.view(np.stack([v.to_ambient()] * 2))
+    assert isinstance(B, batch.CompoundBatch) and isinstance(B.T, batch.SE3Batch)
+    np.testing.assert_allclose(B.a.vec, [[1.0, 2.0]] * 2)
+    # perturbed views equal ⊞ through the solver's manifold, where the kind has them
+    base = se3.view(np.stack([T.ambient] * 2))
+    for j in range(6):
+        P = se3.perturbed_view(base, j, np.full(2, 1e-3))
+        step = np.zeros((2, 6))
+        step[:, j] = 1e-3
+        np.testing.assert_allclose(P.ambient, se3.plus_batch(base.ambient, step), atol=1e-14)
+    assert se3.perturbed_view(base, 4, np.array([1e-3, 2e-3])) is None
+    s2 = codec_of(bp.S2([0, 0, 1.0]))
+    assert s2.perturbed_view(s2.view(np.array([[0, 0, 1.0]])), 0, np.array([1e-3])) is None

@@ -23,6 +23,8 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
+from boxplus.geometry import (CAMERA_LABELS, absolute_orientation, camera_matrix, model_labels, pixel_rays,
+                              project_to_so3, triangulate_midpoint, undistort)
 from boxplus.manifolds import SE3, SO3
 from boxplus.calib.zhang import homography, init_camera, pose_from_homography
 
@@ -32,38 +34,13 @@ __all__ = [
     "robot_world_hand_eye", "triangulate", "marker_hand_eye",
 ]
 
-CAMERA_LABELS = {
-    "simple_radial": ["f", "cx", "cy", "k1"],
-    "pinhole": ["fx", "fy", "cx", "cy"],
-    "radial1": ["fx", "fy", "cx", "cy", "k1"],
-    "radial2": ["fx", "fy", "cx", "cy", "k1", "k2"],
-    "opencv5": ["fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"],
-}
-
-
-def _model(model: str) -> List[str]:
-    try:
-        return CAMERA_LABELS[model]
-    except KeyError:
-        raise ValueError(f"unknown camera model '{model}' (expected one of {sorted(CAMERA_LABELS)})") from None
-
-
 def intrinsics_vector(K: np.ndarray, model: str, dist: Sequence[float] = ()) -> np.ndarray:
     """The model's intrinsics vector from a 3×3 K and OpenCV-ordered distortion
     (k1, k2, p1, p2, k3; missing ones are 0)."""
-    labels = _model(model)
+    labels = model_labels(model)
     d = dict(zip(["k1", "k2", "p1", "p2", "k3"], list(dist) + [0.0] * 5))
     v = {"f": (K[0, 0] + K[1, 1]) / 2, "fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], **d}
     return np.array([v[n] for n in labels], dtype=float)
-
-
-def camera_matrix(k: np.ndarray, model: str) -> Tuple[np.ndarray, np.ndarray]:
-    """(K 3×3, OpenCV distortion [k1, k2, p1, p2, k3]) from a model's intrinsics vector."""
-    labels = _model(model)
-    v = dict(zip(labels, np.asarray(k, float)))
-    fx, fy = v.get("fx", v.get("f")), v.get("fy", v.get("f"))
-    K = np.array([[fx, 0, v["cx"]], [0, fy, v["cy"]], [0, 0, 1.0]])
-    return K, np.array([v.get(n, 0.0) for n in ["k1", "k2", "p1", "p2", "k3"]])
 
 
 def check_views(
@@ -101,25 +78,12 @@ def check_views(
     return out
 
 
-def _undistort_normalised(p: np.ndarray, K: np.ndarray, dist: np.ndarray, iters: int = 20) -> np.ndarray:
-    x = (p - K[:2, 2]) / np.diag(K)[:2]
-    k1, k2, p1, p2, k3 = dist
-    u = x.copy()
-    for _ in range(iters):  # fixed-point inversion of the distortion
-        r2 = np.sum(u**2, axis=1)
-        rad = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
-        dx = 2 * p1 * u[:, 0] * u[:, 1] + p2 * (r2 + 2 * u[:, 0] ** 2)
-        dy = p1 * (r2 + 2 * u[:, 1] ** 2) + 2 * p2 * u[:, 0] * u[:, 1]
-        u = (x - np.column_stack([dx, dy])) / rad[:, None]
-    return u
-
-
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
                dist: Sequence[float] = (0, 0, 0, 0, 0)) -> SE3:
     """board2cam of a planar board (z = 0) seen by a calibrated camera (PnP by the
     homography of undistorted normalised points, Zhang eq. 12)."""
     obj = np.asarray(object_points, float)
-    u = _undistort_normalised(np.asarray(image_points, float), K, np.asarray(dist, float))
+    u = undistort((np.asarray(image_points, float) - K[:2, 2]) / np.diag(K)[:2], np.asarray(dist, float))
     return pose_from_homography(np.eye(3), homography(obj[:, :2], u))
 
 
@@ -127,9 +91,7 @@ def mean_pose(poses: Sequence[SE3]) -> SE3:
     """Chordal L2 mean of poses (mean translation, rotation projected to SO(3))."""
     if not poses:
         raise ValueError("mean_pose: no poses")
-    M = sum(p.rot.R for p in poses)
-    U, _, Vt = np.linalg.svd(M)
-    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    R = project_to_so3(sum(p.rot.R for p in poses), "mean_pose")
     return SE3(SO3(R), np.mean([p.pos for p in poses], axis=0))
 
 
@@ -144,13 +106,12 @@ def relative_pose_init(board2a: Sequence[SE3], board2b: Sequence[SE3]) -> SE3:
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """R minimising Σ‖b_i − R a_i‖² (Kabsch / Wahba); a, b (N, 3). Raises when the
     directions are all parallel (the rotation about them is then undetermined)."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    an = a / np.linalg.norm(a, axis=1, keepdims=True)
-    if np.linalg.svd(an - an.mean(axis=0), compute_uv=False)[0] < 1e-6:
-        raise ValueError("rotation_between: all directions are parallel; the rotation about them "
-                         "is undetermined (e.g. an IMU's yaw from gravity with one board orientation)")
-    U, _, Vt = np.linalg.svd(b.T @ a)
-    return U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    try:
+        return absolute_orientation(a, b, translation=False, what="rotation_between").rot.R
+    except ValueError as e:
+        if "parallel" not in str(e):
+            raise
+        raise ValueError(f"{e} (e.g. an IMU's yaw from gravity with one board orientation)") from None
 
 
 def hand_eye_park(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> SE3:
@@ -173,9 +134,7 @@ def hand_eye_park(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> SE3
     w, V = np.linalg.eigh(M.T @ M)
     if w.min() < 1e-12 * max(w.max(), 1e-300):
         raise ValueError("hand-eye: the rotations are about parallel axes (≥ 2 axes are needed)")
-    R = V @ np.diag(w**-0.5) @ V.T @ M.T
-    U, _, Vt = np.linalg.svd(R)
-    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    R = project_to_so3(V @ np.diag(w**-0.5) @ V.T @ M.T, "hand-eye")
     C = np.vstack([A.rot.R - np.eye(3) for A in As])
     d = np.concatenate([R @ B.pos - A.pos for A, B in zip(As, Bs)])
     t, *_ = np.linalg.lstsq(C, d, rcond=None)
@@ -195,22 +154,13 @@ def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarr
     """Points (N, 3) in frame a from their pixels (N, 2) in two calibrated cameras
     a and b (intrinsics vectors of ``model``; ``a2b`` maps points of a into b): the
     midpoint of the closest points of the two undistorted rays."""
-    Ka, da = camera_matrix(k_a, model)
-    Kb, db = camera_matrix(k_b, model)
     za, zb = np.atleast_2d(np.asarray(z_a, float)), np.atleast_2d(np.asarray(z_b, float))
     if za.shape != zb.shape or za.shape[1] != 2:
         raise ValueError(f"triangulate: z_a and z_b must be the same (N, 2), got {za.shape}, {zb.shape}")
-    ra = np.column_stack([_undistort_normalised(za, Ka, da), np.ones(len(za))])
-    rb = np.column_stack([_undistort_normalised(zb, Kb, db), np.ones(len(zb))])
     R, t = a2b.rot.R, a2b.pos
-    rb_in_a = rb @ R  # Rᵀ r_b, rows
-    c_b = -R.T @ t    # b's centre in a
-    out = np.empty((len(za), 3))
-    for i in range(len(za)):
-        A = np.column_stack([ra[i], -rb_in_a[i]])
-        lam, *_ = np.linalg.lstsq(A, c_b, rcond=None)
-        out[i] = 0.5 * (lam[0] * ra[i] + c_b + lam[1] * rb_in_a[i])
-    return out
+    # camera a at the origin of a; camera b's centre −Rᵀt and rays Rᵀ r_b in a
+    return triangulate_midpoint(np.zeros(3), pixel_rays(k_a, za, model), -R.T @ t,
+                                pixel_rays(k_b, zb, model) @ R, "triangulate")
 
 
 def marker_hand_eye(p_in_x: Sequence[np.ndarray], hand2base: Sequence[Sequence[SE3]]
@@ -247,8 +197,7 @@ def marker_hand_eye(p_in_x: Sequence[np.ndarray], hand2base: Sequence[Sequence[S
     if s[-1] < 1e-9 * s[0]:
         raise ValueError("marker_hand_eye: degenerate poses (markers in a plane, or hands that do not rotate)")
     x, *_ = np.linalg.lstsq(A, b, rcond=None)
-    U, _, Vt = np.linalg.svd(x[:9].reshape(3, 3))
-    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    R = project_to_so3(x[:9].reshape(3, 3), "marker_hand_eye")
     # with R fixed: t_x and the p_h
     A2 = A[:, 9:]
     b2 = b - A[:, :9] @ R.reshape(-1)

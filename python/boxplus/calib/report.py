@@ -81,16 +81,8 @@ class CalibrationReport:
 
 def _display_values(o, vid: int) -> np.ndarray:
     """Values shown beside the tangent directions: Rⁿ coordinates, for a pose its
-    position and rotation vector (the tangent at the identity)."""
-    from boxplus.manifolds import SE3, SO3
-
-    v = o.value(vid)
-    if isinstance(v, SE3):
-        return np.concatenate([v.pos, v.rot.log()])
-    if isinstance(v, SO3):
-        return v.log()
-    a = np.asarray(v.ambient, float)
-    return a if a.size == o.codec(vid).dof else np.full(o.codec(vid).dof, np.nan)
+    position and rotation vector (the tangent at the identity); :meth:`Codec.display`."""
+    return o.codec(vid).display(o.value(vid))
 
 
 def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1e-5,

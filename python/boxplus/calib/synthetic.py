@@ -12,30 +12,20 @@ from typing import List, Optional, Tuple
 import numpy as np
 
 from boxplus.manifolds import SE3, SO3
-from boxplus.calib.init import camera_matrix
+from boxplus.geometry import look_at, project
 
 __all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K"]
 
 # fx fy cx cy k1 k2 p1 p2 k3 of a 640×480 camera (opencv5 layout)
 TRUE_K = np.array([520.0, 515.0, 322.0, 245.0, -0.28, 0.08, 0.001, -0.0005, 0.0])
+# the board's +y appears up in the images of random_views (x = z × up, geometry.look_at)
+_BOARD_UP = np.array([0.0, 1.0, 0.0])
 
 
 def board_points(cols: int = 9, rows: int = 6, square: float = 0.04) -> np.ndarray:
     """Inner corners of a chessboard in its own frame (z = 0), metres."""
     g = np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), -1).reshape(-1, 2) * square
     return np.column_stack([g, np.zeros(len(g))])
-
-
-def look_at(eye: np.ndarray, target: np.ndarray, up: np.ndarray = np.array([0, -1.0, 0])) -> SE3:
-    """cam2world of a camera at ``eye`` whose optical axis (z) points at ``target``."""
-    z = target - eye
-    z = z / np.linalg.norm(z)
-    x = np.cross(up, z)
-    if np.linalg.norm(x) < 1e-9:
-        x = np.cross([1.0, 0, 0], z)
-    x /= np.linalg.norm(x)
-    y = np.cross(z, x)
-    return SE3(SO3(np.column_stack([x, y, z])), eye)
 
 
 def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance: float = 0.6,
@@ -45,20 +35,9 @@ def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance:
     for _ in range(n):
         d = np.array([rng.uniform(-spread, spread), rng.uniform(-spread, spread), -1.0])
         eye = center + distance * d / np.linalg.norm(d)
-        pose = look_at(eye, center + rng.normal(0, 0.02, 3))
+        pose = look_at(eye, center + rng.normal(0, 0.02, 3), up=_BOARD_UP)
         out.append(SE3(SO3(pose.rot.R @ SO3.exp(np.array([0, 0, rng.uniform(-roll, roll)])).R), pose.pos))
     return out
-
-
-def project(k: np.ndarray, p_in_cam: np.ndarray, model: str = "opencv5") -> np.ndarray:
-    """Pixels (N, 2) of camera-frame points (N, 3) with a model's intrinsics."""
-    K, (k1, k2, p1, p2, k3) = camera_matrix(k, model)
-    x = p_in_cam[:, :2] / p_in_cam[:, 2:3]
-    r2 = np.sum(x**2, axis=1)
-    rad = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
-    xd = x[:, 0] * rad + 2 * p1 * x[:, 0] * x[:, 1] + p2 * (r2 + 2 * x[:, 0] ** 2)
-    yd = x[:, 1] * rad + p1 * (r2 + 2 * x[:, 1] ** 2) + 2 * p2 * x[:, 0] * x[:, 1]
-    return np.column_stack([K[0, 0] * xd + K[0, 2], K[1, 1] * yd + K[1, 2]])
 
 
 def observe(k: np.ndarray, cam2world: SE3, p_world: np.ndarray, sigma: float,

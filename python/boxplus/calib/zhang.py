@@ -15,6 +15,7 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 
+from boxplus.geometry import project_to_so3
 from boxplus.manifolds import SE3, SO3
 
 __all__ = ["homography", "init_camera", "intrinsics_from_homographies", "pose_from_homography"]
@@ -116,8 +117,7 @@ def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
     if A[2, 2] * lam < 0:  # the board must be in front of the camera
         lam = -lam
     r1, r2, t = lam * A[:, 0], lam * A[:, 1], lam * A[:, 2]
-    U, _, Vt = np.linalg.svd(np.column_stack([r1, r2, np.cross(r1, r2)]))
-    R = U @ np.diag([1, 1, np.linalg.det(U @ Vt)]) @ Vt
+    R = project_to_so3(np.column_stack([r1, r2, np.cross(r1, r2)]), "pose_from_homography")
     return SE3(SO3(R), t)
 
 

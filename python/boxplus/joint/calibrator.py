@@ -41,6 +41,8 @@ from boxplus.joint.horn import horn
 from boxplus.joint.restarts import RestartResult, solve_with_restarts
 from boxplus.joint.systems import ThreeDSystem
 
+_MEMO_SIZE = 4  # the unperturbed points of a term's (at most two) systems, and their ± steps
+
 __all__ = ["JointCalibration", "JointResult"]
 
 
@@ -390,9 +392,21 @@ class JointCalibration:
     def _points_fn(self, system: str) -> Callable[[Dict[str, Any], np.ndarray], np.ndarray]:
         sys_ = self.systems[system]
         binding = self._binding[system]
+        # The solver's central differences perturb one variable at a time and pass
+        # the same (immutable) batch objects for all the others, so the points of a
+        # system none of whose parameters moved are those of the last calls: a few
+        # results are kept, keyed by the identity of their inputs (which the entry
+        # holds, so that the ids cannot be reused while it lives).
+        memo: deque = deque(maxlen=_MEMO_SIZE)
 
         def pts(b: Dict[str, Any], U: np.ndarray) -> np.ndarray:
-            return sys_.points(SimpleNamespace(**{p: b[k] for p, k in binding.items()}), U)
+            args = [b[k] for k in binding.values()]
+            for inputs, out in memo:
+                if inputs[0] is U and all(x is y for x, y in zip(inputs[1:], args)):
+                    return out
+            out = sys_.points(SimpleNamespace(**dict(zip(binding, args))), U)
+            memo.append(((U, *args), out))
+            return out
 
         return pts
 

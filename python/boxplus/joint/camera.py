@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from boxplus.geometry import project_pinhole
 from boxplus.manifolds import Rn, make_compound
 
 __all__ = ["CameraIntrinsics", "project", "ray"]
@@ -26,9 +27,7 @@ _NEWTON_STEPS = 6  # quadratic convergence: below 1e-15 from the distorted radiu
 
 def project(cam, p_in_cam: np.ndarray) -> np.ndarray:
     """Pixels (N, 2) of points p_in_cam (N, 3)."""
-    x = p_in_cam[:, :2] / p_in_cam[:, 2:3]
-    r2 = np.sum(x * x, axis=1, keepdims=True)
-    return cam.f.vec * x * (1.0 + cam.k1.vec * r2) + cam.c.vec
+    return project_pinhole(p_in_cam, cam.f.vec, cam.c.vec, k1=cam.k1.vec)
 
 
 def ray(cam, uv: np.ndarray) -> np.ndarray:

@@ -26,6 +26,7 @@ from typing import Any, Dict, Mapping, Optional
 import numpy as np
 
 from boxplus import batch
+from boxplus.geometry import triangulate_midpoint
 from boxplus.manifolds import Rn, codec_of
 from boxplus.joint.camera import CameraIntrinsics, ray
 
@@ -136,16 +137,7 @@ class StereoPair(ThreeDSystem):
         Rt = np.transpose(X.R, (0, 2, 1))
         o2 = -np.einsum("nij,nj->ni", Rt, X.pos)  # centre of camera 2 in camera 1
         d2 = np.einsum("nij,nj->ni", Rt, ray(alpha.cam2, U[:, 2:4]))
-        w0 = -o2
-        a = np.sum(d1 * d1, 1)
-        b = np.sum(d1 * d2, 1)
-        c = np.sum(d2 * d2, 1)
-        d = np.sum(d1 * w0, 1)
-        e = np.sum(d2 * w0, 1)
-        den = a * c - b * b
-        s = (b * e - c * d) / den
-        t = (a * e - b * d) / den
-        return 0.5 * (s[:, None] * d1 + o2 + t[:, None] * d2)
+        return triangulate_midpoint(np.zeros(3), d1, o2, d2, f"StereoPair '{self.name}'")
 
 
 class ActiveTriangulation(ThreeDSystem):
