@@ -7,7 +7,7 @@ JOBS   ?= 2
 CPP_BUILD := build/cpp
 PREFIX    := build/prefix
 
-.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench clean
+.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench clean sanitize
 
 demo: install
 	$(VPY) examples/demo.py
@@ -52,6 +52,24 @@ lint: venv
 bench: install
 	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true
 	$(VPY) bench/run_all.py
+
+# ASan + UBSan: the library, the C++ tests and the tools in build/asan, the
+# extension installed into build/asan-site; ctest and the Python suite run
+# under them (the Python interpreter is not instrumented, so the sanitizer
+# runtimes are preloaded; CPython's own allocations are not leak-checked).
+ASAN_SITE := build/asan-site
+ASAN_ENV  := ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:strict_string_checks=1 \
+             UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+sanitize: venv
+	cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOXPLUS_SANITIZE=ON >/dev/null
+	cmake --build build/asan -j$(JOBS)
+	$(ASAN_ENV) ctest --test-dir build/asan --output-on-failure -j$(JOBS)
+	$(VPY) -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
+	    --upgrade --target $(ASAN_SITE) -C build-dir=build/asan-wheel \
+	    -C cmake.build-type=RelWithDebInfo -C cmake.define.BOXPLUS_SANITIZE=ON .
+	$(ASAN_ENV) LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
+	    PYTHONPATH=$(CURDIR)/$(ASAN_SITE) PATH=$(CURDIR)/$(ASAN_SITE)/bin:$$PATH \
+	    $(VPY) -m pytest -q -p no:cacheprovider
 
 clean:
 	rm -rf build $(VENV)
