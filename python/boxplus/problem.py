@@ -23,16 +23,16 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
 from boxplus import _core, batch
+from boxplus.calib.factors import CalibrationFactors
+from boxplus.losses import LossSpec, make_loss
 from boxplus.manifolds import Codec, codec_of
 
 __all__ = ["EvaluationError", "OptimizationProblem", "SolveResult"]
-
-LossSpec = Union[None, str, Tuple[str, float], "_core.Loss"]
 
 _REL_STEP = 1e-6  # finite-difference step, relative to the size of an Rⁿ coordinate
 
@@ -68,20 +68,6 @@ class SolveResult:
             f"{self.termination}: cost {self.initial_cost:.6g} -> {self.final_cost:.6g} "
             f"in {self.iterations} iterations, {self.time_s:.3f} s ({self.message})"
         )
-
-
-def _make_loss(loss: LossSpec, what: str) -> Optional["_core.Loss"]:
-    if loss is None:
-        return None
-    if isinstance(loss, _core.Loss):
-        return loss
-    try:
-        if isinstance(loss, str):
-            return _core.Loss(loss, 1.0)
-        name, width = loss
-        return _core.Loss(str(name), float(width))
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{what}: bad loss {loss!r}: {e}") from None
 
 
 def _sqrt_info(sigma: Any, m: int, what: str) -> np.ndarray:
@@ -313,7 +299,7 @@ class _Group:
         return np.einsum("nij,nj->ni", W, A) if A.ndim == 2 else np.einsum("nij,njt->nit", W, A)
 
 
-class OptimizationProblem:
+class OptimizationProblem(CalibrationFactors):
     """A least-squares problem on manifolds (MTKM's OptimizationProblem).
 
     Examples
@@ -330,8 +316,8 @@ class OptimizationProblem:
         self._codecs: List[Codec] = []
         self._groups: Dict[Tuple[Any, ...], _Group] = {}
         self._meas_group: Dict[int, str] = {}
-        # C++ factors whose errors can be unwhitened: mid -> (W, dim of one error row)
-        self._cpp_W: Dict[int, np.ndarray] = {}
+        # C++ factors whose errors _core.Problem.error un-whitens (their NoiseModel)
+        self._cpp_mids: Dict[int, None] = {}  # an ordered set
         self._labels: Dict[int, List[str]] = {}
 
     # ---- variables -------------------------------------------------------------------
@@ -499,7 +485,7 @@ class OptimizationProblem:
             raise TypeError(f"{what}: f returned a {type(y).__name__}, expected a {z_codec.name} like z")
         W = _sqrt_info(sigma, m, what)
         group = self._group(f, fname, False, z_codec, m, [self._codecs[v] for v in ids])
-        mid = group.append([ids], [z_amb], [W], [constants], _make_loss(loss, what), [name or ""])[0]
+        mid = group.append([ids], [z_amb], [W], [constants], make_loss(loss, what), [name or ""])[0]
         self._meas_group[mid] = fname
         return mid
 
@@ -595,7 +581,7 @@ class OptimizationProblem:
             i = int(np.argmax(~np.all(np.isfinite(E), axis=1)))
             raise EvaluationError(f"{what}: f gives a non-finite prediction for row {i} at the initial values")
         names = [f"{name}[{i}]" if name else "" for i in range(n)]
-        mids = group.append(rows, list(Zarr), list(W), constants, _make_loss(loss, what), names)
+        mids = group.append(rows, list(Zarr), list(W), constants, make_loss(loss, what), names)
         for mid in mids:
             self._meas_group[mid] = fname
         return np.asarray(mids)
@@ -623,195 +609,20 @@ class OptimizationProblem:
         W = _sqrt_info(sigma, codec.dof, what)
         noise = _core.NoiseModel.sqrt_information(W, what)
         mid = self._core.add_prior(int(vid), codec.to_ambient(z), noise, name or "",
-                                   _make_loss(loss, what))
+                                   make_loss(loss, what))
         self._meas_group[mid] = "prior"
         return mid
 
-    def add_projection(
-        self,
-        z: Any,
-        intrinsics: int,
-        x2world: int,
-        x2cam: int,
-        p_world: Any,
-        sigma: Any = 1.0,
-        model: str = "simple_radial",
-        loss: LossSpec = None,
-        name: Optional[str] = None,
-    ) -> int:
-        """Adds the C++ pinhole factor: z ≈ π(k, x2cam ∘ x2world⁻¹ ∘ p_world).
+    # ---- hooks of the calibration factors (boxplus.calib.factors) ----------------------
+    def codec(self, vid: int) -> Codec:
+        """The codec (manifold, ambient layout) of variable ``vid``."""
+        return self._codec(vid)
 
-        ``intrinsics`` must hold ``camera_model_size(model)`` ambient numbers in the
-        model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
-        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]); ``x2world`` and
-        ``x2cam`` are SE3 variables (fix ``x2cam`` to the identity for one camera).
-        """
-        what = f"measurement '{name}'" if name else f"projection #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2world, x2cam], what)
-        W = _sqrt_info(sigma, 2, what)
-        zz = np.asarray(z, dtype=float).reshape(2)
-        pw = np.asarray(p_world, dtype=float).reshape(3)
-        mid = self._core.add_pinhole_point(model, *ids, zz, W, pw, name or "", _make_loss(loss, what))
-        self._meas_group[mid] = f"projection[{model}]"
-        return mid
-
-    # ---- built-in C++ factors (see cpp/include/boxplus/factors/) ----------------------
-    def _cpp(self, mid: int, group: str, W: Optional[np.ndarray]) -> int:
+    def _register(self, mid: int, group: str) -> int:
+        """Records a C++ factor's group; its errors are un-whitened in C++."""
         self._meas_group[mid] = group
-        if W is not None:
-            self._cpp_W[mid] = W
+        self._cpp_mids[mid] = None
         return mid
-
-    def add_board(
-        self,
-        z: Any,
-        intrinsics: int,
-        x2world: int,
-        x2cam: int,
-        p_world: Any,
-        sigma: Any = 1.0,
-        model: str = "opencv5",
-        loss: LossSpec = None,
-        name: Optional[str] = None,
-        group: Optional[str] = None,
-    ) -> int:
-        """All visible points of a board in one C++ factor (see factors/board.h).
-
-        r_j = L⁻¹ (π(k, x2cam ∘ x2world⁻¹ ∘ p_world_j) − z_j); ``z`` (N, 2) pixels,
-        ``p_world`` (N, 3) the same points in the board ("world") frame, ``sigma``
-        a 2×2 Σ (or σ) shared by the points. ``group`` names the measurement
-        group in RMS reports (default ``board[model]``).
-        """
-        what = f"measurement '{name}'" if name else f"board #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2world, x2cam], what)
-        zz = np.asarray(z, dtype=float)
-        pw = np.asarray(p_world, dtype=float)
-        if zz.ndim != 2 or zz.shape[1] != 2 or pw.shape != (len(zz), 3) or len(zz) == 0:
-            raise ValueError(f"{what}: z must be (N, 2) and p_world (N, 3) with N >= 1, got "
-                             f"{zz.shape} and {pw.shape}")
-        if not (np.all(np.isfinite(zz)) and np.all(np.isfinite(pw))):
-            raise ValueError(f"{what}: non-finite points (an undetected board?)")
-        size = _core.camera_model_size(model)
-        if self._codec(intrinsics).ambient_size != size:
-            raise ValueError(f"{what}: camera model '{model}' needs {size} intrinsics, variable "
-                             f"'{self.variable_name(intrinsics)}' has {self._codec(intrinsics).ambient_size}")
-        W = _sqrt_info(sigma, 2, what)
-        mid = self._core.add_pinhole_board(model, *ids, np.ascontiguousarray(zz), W,
-                                           np.ascontiguousarray(pw), name or "", _make_loss(loss, what))
-        return self._cpp(mid, group or f"board[{model}]", W)
-
-    def add_marker(
-        self, z: Any, intrinsics: int, x2base: int, p_in_hand: int, x2cam: int, hand2base: Any,
-        sigma: Any = 1.0, model: str = "opencv5", loss: LossSpec = None,
-        name: Optional[str] = None, group: Optional[str] = None,
-    ) -> int:
-        """A marker on a hand, ``hand2base`` (SE3) from forward kinematics (factors/marker.h)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"marker #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2base, p_in_hand, x2cam], what)
-        if not isinstance(hand2base, SE3):
-            raise TypeError(f"{what}: hand2base must be an SE3")
-        W = _sqrt_info(sigma, 2, what)
-        mid = self._core.add_marker(model, *ids, np.asarray(z, float).reshape(2), W,
-                                    hand2base.ambient, name or "", _make_loss(loss, what))
-        return self._cpp(mid, group or "marker", W)
-
-    def add_dh_marker(
-        self, z: Any, intrinsics: int, x2base: int, p_in_hand: int, x2cam: int, dh: int,
-        joints: Any, base2chain: Any = None, flange2hand: Any = None, sigma: Any = 1.0,
-        model: str = "opencv5", loss: LossSpec = None, name: Optional[str] = None,
-        group: Optional[str] = None,
-    ) -> int:
-        """A marker through a DH chain with unknown link parameters ``dh`` (an Rn(4n)
-        variable: per joint [θ offset, d, a, α]) and joint readings ``joints`` (rad)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"DH marker #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2base, p_in_hand, x2cam, dh], what)
-        q = np.asarray(joints, float).reshape(-1)
-        if self._codec(dh).ambient_size != 4 * len(q):
-            raise ValueError(f"{what}: {len(q)} joint readings need a dh variable of {4 * len(q)} "
-                             f"numbers, '{self.variable_name(dh)}' has {self._codec(dh).ambient_size}")
-        pre = (base2chain or SE3()).ambient
-        post = (flange2hand or SE3()).ambient
-        W = _sqrt_info(sigma, 2, what)
-        mid = self._core.add_dh_marker(model, *ids, np.asarray(z, float).reshape(2), W, q, pre, post,
-                                       name or "", _make_loss(loss, what))
-        return self._cpp(mid, group or "marker", W)
-
-    def add_gravity(
-        self, z: Any, x2world: int, x2imu: int, accel: Optional[int] = None,
-        g_in_world: Any = (0.0, 0.0, -9.81), sigma: Any = 1.0, loss: LossSpec = None,
-        name: Optional[str] = None, group: str = "gravity",
-    ) -> int:
-        """Gravity read by an accelerometer (factors/gravity.h): r = L⁻¹ (s R_imu_x
-        R_x2worldᵀ g + b − z). ``accel``: None (rotation only), an Rn(1) [s] or an
-        Rn(4) [s, bx, by, bz] variable."""
-        what = f"measurement '{name}'" if name else f"gravity #{self.num_measurements}"
-        ids = [x2world, x2imu] + ([] if accel is None else [accel])
-        ids = self._check_ids(ids, what)
-        if accel is None:
-            model = "rotation"
-        else:
-            n = self._codec(accel).ambient_size
-            model = {1: "scale", 4: "scale_bias"}.get(n)
-            if model is None:
-                raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
-        W = _sqrt_info(sigma, 3, what)
-        mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
-                                     np.asarray(z, float).reshape(3), W,
-                                     np.asarray(g_in_world, float).reshape(3), name or "",
-                                     _make_loss(loss, what))
-        return self._cpp(mid, group, W)
-
-    def add_relative_pose(
-        self, z_b2a: Any, a2world: int, b2world: int, sigma: Any = 1.0, loss: LossSpec = None,
-        name: Optional[str] = None, group: str = "relative_pose",
-    ) -> int:
-        """r = L⁻¹ ((a2world⁻¹ ∘ b2world) ⊟ z_b2a), tangent [δp, δθ] (factors/relative_pose.h)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"relative pose #{self.num_measurements}"
-        ids = self._check_ids([a2world, b2world], what)
-        if not isinstance(z_b2a, SE3):
-            raise TypeError(f"{what}: z_b2a must be an SE3")
-        W = _sqrt_info(sigma, 6, what)
-        mid = self._core.add_relative_pose(*ids, z_b2a.ambient, W, name or "", _make_loss(loss, what))
-        return self._cpp(mid, group, W)
-
-    def add_point(
-        self, z: Any, x2world: int, x2cam: int, p_world: Any, sigma: Any = 1.0,
-        loss: LossSpec = None, name: Optional[str] = None, group: str = "point",
-    ) -> int:
-        """A 3-D point measured in a sensor (factors/point.h); ``p_world`` a known
-        point (3,) or the id of an Rn(3) variable."""
-        what = f"measurement '{name}'" if name else f"point #{self.num_measurements}"
-        if isinstance(p_world, (int, np.integer)):
-            ids = self._check_ids([x2world, x2cam, p_world], what)
-            pw, pid = np.zeros(3), ids[2]
-        else:
-            ids = self._check_ids([x2world, x2cam], what)
-            pw, pid = np.asarray(p_world, float).reshape(3), -1
-        W = _sqrt_info(sigma, 3, what)
-        mid = self._core.add_point(ids[0], ids[1], pid, np.asarray(z, float).reshape(3), W, pw,
-                                   name or "", _make_loss(loss, what))
-        return self._cpp(mid, group, W)
-
-    def add_disparity(
-        self, d: float, x2world: int, x2cam: int, disparity_params: int, p_world: Any,
-        sigma: float = 1.0, loss: LossSpec = None, name: Optional[str] = None,
-        group: str = "disparity",
-    ) -> int:
-        """Kinect-style disparity d = a / Z + b of a board point (factors/disparity.h);
-        ``disparity_params`` an Rn(2) variable [a, b]."""
-        what = f"measurement '{name}'" if name else f"disparity #{self.num_measurements}"
-        ids = self._check_ids([x2world, x2cam, disparity_params], what)
-        W = _sqrt_info(sigma, 1, what)
-        mid = self._core.add_disparity(*ids, float(d), 1.0 / W[0, 0],
-                                       np.asarray(p_world, float).reshape(3), name or "",
-                                       _make_loss(loss, what))
-        return self._cpp(mid, group, W)
 
     def jacobian(self) -> Dict[str, Any]:
         """Whitened residuals and their dense Jacobian in the tangent spaces of the
@@ -912,13 +723,11 @@ class OptimizationProblem:
         return {k: np.concatenate(v) for k, v in out.items()}
 
     def _cpp_errors(self, mids: Optional[Sequence[int]] = None) -> Dict[int, np.ndarray]:
-        """Unwhitened errors of the built-in factors with a known W: rows of W's size."""
-        out = {}
-        for mid in (self._cpp_W if mids is None else mids):
-            W = self._cpp_W[mid]
-            r = self._core.residual(mid).reshape(-1, W.shape[0])
-            out[mid] = np.linalg.solve(W, r.T).T
-        return out
+        """Unwhitened errors W⁻¹ r of the built-in factors (C++): rows of the noise's size."""
+        return {
+            mid: self._core.error(mid).reshape(-1, self._core.noise(mid).dim)
+            for mid in (self._cpp_mids if mids is None else mids)
+        }
 
     def measurement_errors(self, mid: int) -> np.ndarray:
         """Unwhitened errors of one built-in factor (rows: one per point/vector)."""
@@ -935,7 +744,7 @@ class OptimizationProblem:
         for mid, gname in self._meas_group.items():
             if mid not in python_mids:
                 r = self._core.residual(mid)
-                m = self._cpp_W[mid].shape[0] if mid in self._cpp_W else r.size
+                m = self._core.noise(mid).dim if mid in self._cpp_mids else r.size
                 out.setdefault(gname, []).append(r.reshape(-1, m))
         return {k: np.concatenate(v) for k, v in out.items()}
 

@@ -64,10 +64,10 @@ def test_stereo_matches_opencv(fixed):
     cal = calibrate_stereo(L, R, obj, size, "opencv5", fixed_intrinsics=fixed_k if fixed else None)
     assert abs(cal.rms() - rms_cv) < 0.005
     rep = cal.report()
-    l2r = cal.problem[cal.ids["left2right"]]
-    s = rep.std("left2right")
-    assert np.all(np.abs(l2r.pos - tcv.ravel()) < s[:3])
-    dtheta = (cal.problem[cal.ids["left2right"]].rot.inverse() * __import__("boxplus").SO3(Rcv)).log()
+    right_from_left = cal.problem[cal.ids["right_from_left"]]
+    s = rep.std("right_from_left")
+    assert np.all(np.abs(right_from_left.pos - tcv.ravel()) < s[:3])
+    dtheta = (cal.problem[cal.ids["right_from_left"]].rot.inverse() * __import__("boxplus").SO3(Rcv)).log()
     assert np.all(np.abs(dtheta) < s[3:])
     if not fixed:
         for name, K, d in [("left", Kl2, dl2), ("right", Kr2, dr2)]:
@@ -86,6 +86,6 @@ def test_bad_input_raises_clear_errors():
     with pytest.raises(ValueError, match="54 board points"):
         calibrate_mono([L[0][:50]] + L[1:], obj, size)
     with pytest.raises(ValueError, match="not positive definite"):
-        calibrate_mono(L, obj, size, sigma=np.array([[1.0, 2.0], [2.0, 1.0]]))
+        calibrate_mono(L, obj, size, covariance=np.array([[1.0, 2.0], [2.0, 1.0]]))
     with pytest.raises(ValueError, match="13 left and 12 right"):
         calibrate_stereo(L, R[:12], obj, size)
