@@ -70,10 +70,10 @@ def main() -> None:
         cal, t_bp = timed(lambda: calibrate_stereo(pts["left"], pts["right"], obj, size, "opencv5",
                                                    fixed_intrinsics=fk if fixed else None))
         rep = cal.report()
-        l2r = cal.problem[cal.ids["left2right"]]
-        delta = np.concatenate([l2r.pos - tcv.ravel(), (l2r.rot.inverse() * bp.SO3(Rcv)).log()])
-        dsig = np.max(np.abs(delta) / rep.std("left2right"))
-        row(f"stereo {'fixed intrinsics' if fixed else 'joint'} (left2right)", t_bp, cal.rms(), t_cv,
+        right_from_left = cal.problem[cal.ids["right_from_left"]]
+        delta = np.concatenate([right_from_left.pos - tcv.ravel(), (right_from_left.rot.inverse() * bp.SO3(Rcv)).log()])
+        dsig = np.max(np.abs(delta) / rep.std("right_from_left"))
+        row(f"stereo {'fixed intrinsics' if fixed else 'joint'} (right_from_left)", t_bp, cal.rms(), t_cv,
             rms_cv, dsig)
     print("(boxplus stereo time includes two Zhang initialisations; OpenCV's is given mono "
           "intrinsics)")

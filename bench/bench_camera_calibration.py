@@ -27,13 +27,13 @@ DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_c
 intrinsic_t = bp.make_compound("intrinsic_t", focal_length=bp.Rn(1), offset=bp.Rn(2), distortion=bp.Rn(1))
 
 
-def pinhole(f, c, k1, p_cam):
-    return project_pinhole(p_cam, f, c, k1=k1)
+def pinhole(f, c, k1, p_in_cam):
+    return project_pinhole(p_in_cam, f, c, k1=k1)
 
 
-def project_points(intrinsic, cam2world, p_world):
+def project_points(intrinsic, world_from_cam, p_in_world):
     return pinhole(intrinsic.focal_length.vec, intrinsic.offset.vec, intrinsic.distortion.vec,
-                   cam2world.tolocal(p_world))
+                   world_from_cam.tolocal(p_in_world))
 
 
 def load():
@@ -43,11 +43,11 @@ def load():
     return obj, imgs, K, [p.inverse() for p in poses], tuple(int(s) for s in d["image_size"])
 
 
-def run_boxplus(obj, imgs, K, cam2world, form):
+def run_boxplus(obj, imgs, K, world_from_cam, form):
     o = bp.OptimizationProblem()
     iid = o.add_random_var(intrinsic_t(focal_length=[K[0, 0]], offset=K[:2, 2], distortion=[0.0]))
     ident = o.add_random_var(bp.SE3(), fixed=True)
-    for p_img, pose in zip(imgs, cam2world):
+    for p_img, pose in zip(imgs, world_from_cam):
         cid = o.add_random_var(pose)
         if form == "vectorised":
             o.add_measurements(p_img, project_points, np.tile([iid, cid], (len(obj), 1)), constants=(obj,))
@@ -63,10 +63,10 @@ def run_boxplus(obj, imgs, K, cam2world, form):
     return t, r.iterations, 2 * r.final_cost, np.sqrt(2 * r.final_cost / (len(imgs) * len(obj)))
 
 
-def run_scipy(obj, imgs, K, cam2world):
+def run_scipy(obj, imgs, K, world_from_cam):
     n = len(imgs)
     x0 = [K[0, 0], K[0, 2], K[1, 2], 0.0]
-    for pose in cam2world:  # board→cam as rotation vector + translation
+    for pose in world_from_cam:  # board→cam as rotation vector + translation
         inv = pose.inverse()
         x0 += list(inv.rot.log()) + list(inv.pos)
     x0 = np.array(x0)
@@ -76,8 +76,8 @@ def run_scipy(obj, imgs, K, cam2world):
         f, c, k1 = x[0], x[1:3], x[3]
         P = x[4:].reshape(n, 6)
         R = Rotation.from_rotvec(P[:, :3]).as_matrix()
-        p_cam = np.einsum("nij,mj->nmi", R, obj) + P[:, None, 3:]
-        return (pinhole(f, c, k1, p_cam) - Z).ravel()
+        p_in_cam = np.einsum("nij,mj->nmi", R, obj) + P[:, None, 3:]
+        return (pinhole(f, c, k1, p_in_cam) - Z).ravel()
 
     m = n * len(obj) * 2
     S = lil_matrix((m, 4 + 6 * n), dtype=int)
@@ -109,12 +109,12 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5, help="best of N runs")
     args = ap.parse_args()
-    obj, imgs, K, cam2world, size = load()
+    obj, imgs, K, world_from_cam, size = load()
     runs = {
-        "boxplus C++ factor": lambda: run_boxplus(obj, imgs, K, cam2world, "cpp"),
-        "boxplus python (vectorised)": lambda: run_boxplus(obj, imgs, K, cam2world, "vectorised"),
-        "boxplus python (per point)": lambda: run_boxplus(obj, imgs, K, cam2world, "per point"),
-        "scipy least_squares (trf, sparse)": lambda: run_scipy(obj, imgs, K, cam2world),
+        "boxplus C++ factor": lambda: run_boxplus(obj, imgs, K, world_from_cam, "cpp"),
+        "boxplus python (vectorised)": lambda: run_boxplus(obj, imgs, K, world_from_cam, "vectorised"),
+        "boxplus python (per point)": lambda: run_boxplus(obj, imgs, K, world_from_cam, "per point"),
+        "scipy least_squares (trf, sparse)": lambda: run_scipy(obj, imgs, K, world_from_cam),
     }
     try:
         import cv2  # noqa: F401

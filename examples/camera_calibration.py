@@ -3,12 +3,12 @@
 The camera model is the paper's: one focal length f, the principal point
 (offset) and one radial distortion coefficient k1,
 
-    u = f · x · (1 + k1 r²) + offset,    x = p_cam[:2] / p_cam[2],  r² = |x|²
+    u = f · x · (1 + k1 r²) + offset,    x = p_in_cam[:2] / p_in_cam[2],  r² = |x|²
 
-and each image i has an unknown camera pose cam2world_i (camera → board
+and each image i has an unknown camera pose world_from_cam_i (camera → board
 frame). Every detected corner is a measurement
 
-    z_ij = project_point(intrinsic, cam2world_i, identity, p_world_j) + noise.
+    z_ij = project_point(intrinsic, world_from_cam_i, identity, p_world_j) + noise.
 
 Run with ``--per-point`` for the paper's literal form (one Python call per
 corner; slow), default is the vectorised form (one call per solver step for all
@@ -31,22 +31,22 @@ from boxplus.geometry import project_pinhole
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
 
 
-def pinhole(focal_length, offset, distortion, p_cam):
+def pinhole(focal_length, offset, distortion, p_in_cam):
     """Projects camera-frame points (..., 3) to pixels (..., 2)."""
-    return project_pinhole(p_cam, focal_length, offset, k1=distortion)
+    return project_pinhole(p_in_cam, focal_length, offset, k1=distortion)
 
 
-def project_point(intrinsic, x2world, x2cam, p_world):
-    """MTKM's measurement function: world → x (inverse of x2world) → camera."""
-    p_cam = x2cam.fromlocal(x2world.tolocal(p_world))
-    return pinhole(intrinsic.focal_length.vec, intrinsic.offset.vec, intrinsic.distortion.vec, p_cam)
+def project_point(intrinsic, world_from_rig, cam_from_rig, p_in_world):
+    """MTKM's measurement function: world → x (inverse of world_from_rig) → camera."""
+    p_in_cam = cam_from_rig.fromlocal(world_from_rig.tolocal(p_in_world))
+    return pinhole(intrinsic.focal_length.vec, intrinsic.offset.vec, intrinsic.distortion.vec, p_in_cam)
 
 
-def project_points(intrinsic, cam2world, p_world):
-    """The same for a whole batch: cam2world and intrinsic are batches, p_world (N, 3)."""
+def project_points(intrinsic, world_from_cam, p_in_world):
+    """The same for a whole batch: world_from_cam and intrinsic are batches, p_in_world (N, 3)."""
     return pinhole(
         intrinsic.focal_length.vec, intrinsic.offset.vec, intrinsic.distortion.vec,
-        cam2world.tolocal(p_world),
+        world_from_cam.tolocal(p_in_world),
     )
 
 
@@ -57,7 +57,7 @@ intrinsic_t = bp.make_compound(
 
 def calibrate(image_points, object_points, image_size, per_point=False, verbose=False):
     """Returns (problem, intrinsic_id, pose_ids, result)."""
-    K, board_to_cam = init_camera(object_points, image_points, image_size)
+    K, cam_from_board = init_camera(object_points, image_points, image_size)
     intrinsic = intrinsic_t(
         focal_length=[(K[0, 0] + K[1, 1]) / 2], offset=K[:2, 2], distortion=[0.0]
     )
@@ -65,16 +65,16 @@ def calibrate(image_points, object_points, image_size, per_point=False, verbose=
     intrinsic_id = o.add_random_var(intrinsic, name="intrinsic")
     pose_ids = []
     sigma = 1.0  # px; the reported standard deviations are rescaled by the residuals
-    for i, (p_img, pose) in enumerate(zip(image_points, board_to_cam)):
-        cam2world_id = o.add_random_var(pose.inverse(), name=f"cam2world_{i}")
-        pose_ids.append(cam2world_id)
+    for i, (p_img, pose) in enumerate(zip(image_points, cam_from_board)):
+        world_from_cam_id = o.add_random_var(pose.inverse(), name=f"world_from_cam_{i}")
+        pose_ids.append(world_from_cam_id)
         if per_point:
             for j in range(len(p_img)):
-                o.add_measurement(p_img[j], project_point, [intrinsic_id, cam2world_id],
+                o.add_measurement(p_img[j], project_point, [intrinsic_id, world_from_cam_id],
                                   constants=(bp.SE3(), object_points[j]), sigma=sigma)
         else:
             n = len(p_img)
-            ids = np.column_stack([np.full(n, intrinsic_id), np.full(n, cam2world_id)])
+            ids = np.column_stack([np.full(n, intrinsic_id), np.full(n, world_from_cam_id)])
             o.add_measurements(p_img, project_points, ids, constants=(object_points,), sigma=sigma)
     result = o.solve(verbose=verbose)
     return o, intrinsic_id, pose_ids, result

@@ -4,11 +4,11 @@ robot-pose noise both modelled, compared with every closed form of OpenCV
 cv2.calibrateRobotWorldHandEye: Shah, Li) on the same simulated data.
 
 Unknowns (world = the board frame):
-    gripper2cam  (X⁻¹, the camera on the gripper), base2board (the robot in the
-    board frame), gripper2board_i (the true gripper pose of each station)
+    cam_from_gripper  (X⁻¹, the camera on the gripper), board_from_base (the robot in the
+    board frame), board_from_gripper_i (the true gripper pose of each station)
 Measurements:
-    z_ij   = π(k, gripper2cam ∘ gripper2board_i⁻¹ ∘ p_board_j)  (corners, px)
-    G̃_i    = base2board⁻¹ ∘ gripper2board_i ⊞ n_i              (robot reading)
+    z_ij   = π(k, cam_from_gripper ∘ board_from_gripper_i⁻¹ ∘ p_board_j)  (corners, px)
+    G̃_i    = board_from_base⁻¹ ∘ board_from_gripper_i ⊞ n_i              (robot reading)
 Intrinsics are known (calibrated before). Initial values: PnP per image and
 Park–Martin's closed form (boxplus.calib.init); no guesses.
 
@@ -25,8 +25,8 @@ import boxplus as bp
 from boxplus.calib import board_pose, hand_eye_park, mean_pose, report
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
-TRUTH = dict(cam2gripper=bp.SE3(bp.SO3.exp(np.array([0.1, -0.2, 1.4])), [0.03, -0.05, 0.08]),
-             board2base=bp.SE3(bp.SO3.exp(np.array([3.0, 0.1, 0.0])), [0.6, 0.1, 0.05]))
+TRUTH = dict(gripper_from_cam=bp.SE3(bp.SO3.exp(np.array([0.1, -0.2, 1.4])), [0.03, -0.05, 0.08]),
+             base_from_board=bp.SE3(bp.SO3.exp(np.array([3.0, 0.1, 0.0])), [0.6, 0.1, 0.05]))
 
 
 def perturb(pose, sigma_t, sigma_r, rng):
@@ -35,11 +35,11 @@ def perturb(pose, sigma_t, sigma_r, rng):
 
 def simulate(rng, pixel_sigma=1.0, robot_t=0.0001, robot_r=0.0002, n=15):
     p = board_points()
-    X, Z = TRUTH["cam2gripper"], TRUTH["board2base"]
+    X, Z = TRUTH["gripper_from_cam"], TRUTH["base_from_board"]
     z, G_meas = [], []
-    for cam2board in random_views(n, rng, p.mean(axis=0), roll=1.2, spread=0.5):
-        G = Z * cam2board * X.inverse()  # gripper2base
-        uv, vis = observe(TRUE_K, cam2board, p, pixel_sigma, rng)
+    for board_from_cam in random_views(n, rng, p.mean(axis=0), roll=1.2, spread=0.5):
+        G = Z * board_from_cam * X.inverse()  # base_from_gripper
+        uv, vis = observe(TRUE_K, board_from_cam, p, pixel_sigma, rng)
         assert vis.all()
         z.append(uv)
         G_meas.append(perturb(G, robot_t, robot_r, rng))
@@ -47,27 +47,27 @@ def simulate(rng, pixel_sigma=1.0, robot_t=0.0001, robot_r=0.0002, n=15):
 
 
 def calibrate(data):
-    """ML estimate of cam2gripper; returns (problem, ids, cam2gripper)."""
+    """ML estimate of gripper_from_cam; returns (problem, ids, gripper_from_cam)."""
     K = np.array([[TRUE_K[0], 0, TRUE_K[2]], [0, TRUE_K[1], TRUE_K[3]], [0, 0, 1]])
-    target2cam = [board_pose(K, z, data["p"], TRUE_K[4:]) for z in data["z"]]
-    X0 = hand_eye_park(data["G"], target2cam)
-    Z0 = mean_pose([G * X0 * T for G, T in zip(data["G"], target2cam)])
+    cam_from_target = [board_pose(K, z, data["p"], TRUE_K[4:]) for z in data["z"]]
+    X0 = hand_eye_park(data["G"], cam_from_target)
+    Z0 = mean_pose([G * X0 * T for G, T in zip(data["G"], cam_from_target)])
 
     o = bp.OptimizationProblem()
     camera = o.add_random_var(bp.Rn(TRUE_K), fixed=True, name="camera")
-    gripper2cam = o.add_random_var(X0.inverse(), name="gripper2cam")
-    base2board = o.add_random_var(Z0.inverse(), name="base2board")
+    cam_from_gripper = o.add_random_var(X0.inverse(), name="cam_from_gripper")
+    board_from_base = o.add_random_var(Z0.inverse(), name="board_from_base")
     for i, (z, G) in enumerate(zip(data["z"], data["G"])):
-        gripper2board = o.add_random_var(Z0.inverse() * G, name=f"gripper2board_{i}")
-        o.add_board(z, camera, gripper2board, gripper2cam, data["p"], sigma=data["pixel_sigma"],
+        board_from_gripper = o.add_random_var(Z0.inverse() * G, name=f"board_from_gripper_{i}")
+        o.add_board(z, camera, board_from_gripper, cam_from_gripper, data["p"], sigma=data["pixel_sigma"],
                     group="camera")
-        o.add_relative_pose(G, base2board, gripper2board, sigma=data["robot_sigma"], group="robot")
+        o.add_relative_pose(G, board_from_base, board_from_gripper, sigma=data["robot_sigma"], group="robot")
     o.solve()
-    return o, dict(gripper2cam=gripper2cam, base2board=base2board), o[gripper2cam].inverse()
+    return o, dict(cam_from_gripper=cam_from_gripper, board_from_base=board_from_base), o[cam_from_gripper].inverse()
 
 
 def opencv_estimates(data):
-    """cam2gripper from every OpenCV closed form (solvePnP for the board poses)."""
+    """gripper_from_cam from every OpenCV closed form (solvePnP for the board poses)."""
     import cv2
 
     K = np.array([[TRUE_K[0], 0, TRUE_K[2]], [0, TRUE_K[1], TRUE_K[3]], [0, 0, 1]])
@@ -92,8 +92,8 @@ def opencv_estimates(data):
 
 
 def errors(X):
-    """(translation error, rotation error rad) of a cam2gripper estimate."""
-    T = TRUTH["cam2gripper"]
+    """(translation error, rotation error rad) of a gripper_from_cam estimate."""
+    T = TRUTH["gripper_from_cam"]
     return np.linalg.norm(X.pos - T.pos), np.linalg.norm((T.rot.inverse() * X.rot).log())
 
 
@@ -113,7 +113,7 @@ def main():
     ap.add_argument("--trials", type=int, default=20)
     args = ap.parse_args()
     rms = compare(args.trials)
-    print(f"cam2gripper RMS error over {args.trials} trials (pixel σ 1 px, robot σ 0.1 mm / 0.2 mrad)")
+    print(f"gripper_from_cam RMS error over {args.trials} trials (pixel σ 1 px, robot σ 0.1 mm / 0.2 mrad)")
     for k, (et, er) in sorted(rms.items(), key=lambda kv: kv[1][0]):
         print(f"  {k:40s} translation {et * 1e3:7.3f} mm   rotation {er * 1e3:7.3f} mrad")
     o, ids, X = calibrate(simulate(np.random.default_rng(99)))

@@ -5,30 +5,30 @@ known truth.
 
 Unknowns (the left camera is the reference frame x):
     left, right            intrinsics (opencv5)
-    left2right             stereo extrinsics
-    left2imu               camera → IMU (rotation from gravity; the translation
+    right_from_left             stereo extrinsics
+    imu_from_left               camera → IMU (rotation from gravity; the translation
                            is measured by hand: a prior, as in the paper)
-    left2head              the cameras' mount on the last head link
+    head_from_left              the cameras' mount on the last head link
     p_hand_l, p_hand_r     the marker on each hand (hand frame, unknown)
-    left2world_i           one pose per board image (world = the board)
+    world_from_left_i           one pose per board image (world = the board)
   with kinematics="dh", additionally
     dh_l, dh_r             each arm's Denavit–Hartenberg parameters, per joint
                            [θ offset, d, a, α], with the CAD values as a prior
                            (nominal ± tolerance)
 Measurements:
-    corners   z = π(k_c, left2c ∘ left2world_i⁻¹ ∘ p_board)                 (px)
-    gravity   g = R_left2imu · R_left2world_iᵀ · g_world                     (m/s², levelled board)
-    markers   z = π(k_c, left2c ∘ left2head⁻¹ ∘ hand2head_j ∘ p_hand)         (px)
-              hand2head_j = head2torso(pan_j, tilt_j)⁻¹ ∘ shoulder2torso ∘ A₁(q₁)…A₆(q₆)
-    kinematics="known": hand2head_j from forward kinematics (constants, Listing 2);
+    corners   z = π(k_c, cam_from_left ∘ world_from_left_i⁻¹ ∘ p_board)                 (px)
+    gravity   g = R_imu_from_left · R_world_from_left_iᵀ · g_world                     (m/s², levelled board)
+    markers   z = π(k_c, cam_from_left ∘ head_from_left⁻¹ ∘ head_from_hand_j ∘ p_hand)         (px)
+              head_from_hand_j = torso_from_head(pan_j, tilt_j)⁻¹ ∘ torso_from_shoulder ∘ A₁(q₁)…A₆(q₆)
+    kinematics="known": head_from_hand_j from forward kinematics (constants, Listing 2);
     kinematics="dh":    Aᵢ = Rot_z(qᵢ + θᵢ) Trans_z(dᵢ) Trans_x(aᵢ) Rot_x(αᵢ) with
                         unknown DH parameters and the joint readings q_j.
-left2c is the identity for the left camera and left2right for the right one.
+cam_from_left is the identity for the left camera and right_from_left for the right one.
 
 Initial values, all closed form (boxplus.calib.init), no guesses: Zhang per
-camera, left2right the chordal mean of the per-view transforms, the IMU rotation
+camera, right_from_left the chordal mean of the per-view transforms, the IMU rotation
 by Kabsch from gravity pairs; after solving the board step, the markers are
-triangulated (stereo) and left2head with both p_hand follows from
+triangulated (stereo) and head_from_left with both p_hand follows from
 marker_hand_eye (linear in R, t, p; R projected onto SO(3)); DH from CAD. Then
 everything is solved jointly.
 
@@ -50,7 +50,7 @@ from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 MODEL = "opencv5"
 SIZE = (640, 480)
 G_WORLD = np.array([0.0, 0.0, -9.81])
-# left2head: camera z (optical axis) → head x (forward), camera x → −y, camera y → −z
+# head_from_left: camera z (optical axis) → head x (forward), camera x → −y, camera y → −z
 _CAM_IN_HEAD = np.array([[0.0, 0, 1], [-1, 0, 0], [0, -1, 0]])
 
 # Nominal (CAD) DH of a 6R arm, per joint [θ offset, d, a, α]; the true arm differs
@@ -70,9 +70,9 @@ _rng_truth = np.random.default_rng(2024)
 TRUTH = dict(
     left=TRUE_K,
     right=np.array([524.0, 521.0, 317.0, 241.0, -0.27, 0.07, -0.0008, 0.0006, 0.0]),
-    left2right=bp.SE3(bp.SO3.exp(np.array([0.004, -0.012, 0.003])), [-0.09, 0.0012, -0.0008]),
-    left2imu=bp.SE3(bp.SO3.exp(np.array([1.2, -0.3, 0.4])), [0.03, -0.06, 0.01]),
-    left2head=bp.SE3(bp.SO3(_CAM_IN_HEAD @ bp.SO3.exp(np.array([0.02, -0.03, 0.01])).R),
+    right_from_left=bp.SE3(bp.SO3.exp(np.array([0.004, -0.012, 0.003])), [-0.09, 0.0012, -0.0008]),
+    imu_from_left=bp.SE3(bp.SO3.exp(np.array([1.2, -0.3, 0.4])), [0.03, -0.06, 0.01]),
+    head_from_left=bp.SE3(bp.SO3(_CAM_IN_HEAD @ bp.SO3.exp(np.array([0.02, -0.03, 0.01])).R),
                      [0.09, 0.045, 0.11]),
     p_hand_l=np.array([0.03, 0.06, 0.10]),
     p_hand_r=np.array([0.03, -0.06, 0.10]),
@@ -83,7 +83,7 @@ SHOULDER2TORSO = dict(l=bp.SE3(bp.SO3.exp(np.array([-np.pi / 2, 0, 0])), [0.0, 0
                       r=bp.SE3(bp.SO3.exp(np.array([np.pi / 2, 0, 0])), [0.0, -0.22, 0.35]))
 
 
-def head2torso(pan: float, tilt: float) -> bp.SE3:
+def torso_from_head(pan: float, tilt: float) -> bp.SE3:
     """The head's known kinematics (pan about z, then tilt about y)."""
     R = bp.SO3.exp(np.array([0, 0, pan])).R @ bp.SO3.exp(np.array([0, tilt, 0])).R
     return bp.SE3(bp.SO3(R), [0.05, 0.0, 0.55])
@@ -103,13 +103,13 @@ def to_se3(T: np.ndarray) -> bp.SE3:
     return bp.SE3(bp.SO3(T[:3, :3]), T[:3, 3])
 
 
-def hand2head(dh, q, side, pan, tilt) -> bp.SE3:
-    return base2chain(side, pan, tilt) * to_se3(dh_chain(dh, q))
+def head_from_hand(dh, q, side, pan, tilt) -> bp.SE3:
+    return base_from_chain(side, pan, tilt) * to_se3(dh_chain(dh, q))
 
 
-def base2chain(side, pan, tilt) -> bp.SE3:
+def base_from_chain(side, pan, tilt) -> bp.SE3:
     """The arm's first DH frame in the head frame (known head kinematics)."""
-    return head2torso(pan, tilt).inverse() * SHOULDER2TORSO[side]
+    return torso_from_head(pan, tilt).inverse() * SHOULDER2TORSO[side]
 
 
 def _batch_chain(dh: np.ndarray, Q: np.ndarray) -> np.ndarray:
@@ -131,7 +131,7 @@ def _arm_poses(side, n, rng, batch=4000):
     from boxplus.calib.synthetic import project
 
     out = []
-    S, L2H, L2R = SHOULDER2TORSO[side], TRUTH["left2head"], TRUTH["left2right"]
+    S, L2H, L2R = SHOULDER2TORSO[side], TRUTH["head_from_left"], TRUTH["right_from_left"]
     while len(out) < n:
         Q = rng.uniform(-np.pi, np.pi, (batch, 6))
         pan, tilt = rng.uniform(-0.3, 0.3, batch), rng.uniform(0.2, 0.6, batch)
@@ -158,78 +158,78 @@ def simulate(rng, pixel_sigma=0.5, marker_sigma=None, accel_sigma=0.02, imu_by_h
 
     marker_sigma = 2 * pixel_sigma if marker_sigma is None else marker_sigma
     p = board_points()
-    right2left = TRUTH["left2right"].inverse()
+    left_from_right = TRUTH["right_from_left"].inverse()
     boards = []
-    for left2world in random_views(n_views, rng, p.mean(axis=0)):
-        zl, vl = observe(TRUTH["left"], left2world, p, pixel_sigma, rng)
-        zr, vr = observe(TRUTH["right"], left2world * right2left, p, pixel_sigma, rng)
-        g = TRUTH["left2imu"].rot.R @ left2world.rot.R.T @ G_WORLD + rng.normal(0, accel_sigma, 3)
+    for world_from_left in random_views(n_views, rng, p.mean(axis=0)):
+        zl, vl = observe(TRUTH["left"], world_from_left, p, pixel_sigma, rng)
+        zr, vr = observe(TRUTH["right"], world_from_left * left_from_right, p, pixel_sigma, rng)
+        g = TRUTH["imu_from_left"].rot.R @ world_from_left.rot.R.T @ G_WORLD + rng.normal(0, accel_sigma, 3)
         boards.append(dict(z_left=zl, vis_left=vl, z_right=zr, vis_right=vr, g=g))
     arms = {}
     for side in "lr":
         obs = []
         for q, pan, tilt in _arm_poses(side, n_arm, rng):
-            H = hand2head(TRUTH[f"dh_{side}"], q, side, pan, tilt)
-            p_left = TRUTH["left2head"].tolocal(H.fromlocal(TRUTH[f"p_hand_{side}"]))
-            p_right = TRUTH["left2right"].fromlocal(p_left)
+            H = head_from_hand(TRUTH[f"dh_{side}"], q, side, pan, tilt)
+            p_left = TRUTH["head_from_left"].tolocal(H.fromlocal(TRUTH[f"p_hand_{side}"]))
+            p_right = TRUTH["right_from_left"].fromlocal(p_left)
             obs.append(dict(
-                q=q, pan=pan, tilt=tilt, hand2head=H,  # forward kinematics of the true arm
+                q=q, pan=pan, tilt=tilt, head_from_hand=H,  # forward kinematics of the true arm
                 z_left=project(TRUTH["left"], p_left[None])[0] + rng.normal(0, marker_sigma, 2),
                 z_right=project(TRUTH["right"], p_right[None])[0] + rng.normal(0, marker_sigma, 2)))
         arms[side] = obs
-    imu_pos = TRUTH["left2imu"].pos + rng.normal(0, imu_by_hand_sigma, 3)
+    imu_pos = TRUTH["imu_from_left"].pos + rng.normal(0, imu_by_hand_sigma, 3)
     return dict(p_board=p, boards=boards, arms=arms, imu_pos_by_hand=imu_pos,
                 imu_by_hand_sigma=imu_by_hand_sigma, pixel_sigma=pixel_sigma,
                 marker_sigma=marker_sigma, accel_sigma=accel_sigma)
 
 
-def imu_position(left2imu):
-    return left2imu.pos
+def imu_position(imu_from_left):
+    return imu_from_left.pos
 
 
 def calibrate(data, kinematics="known", dh_prior=True):
-    """Returns (problem, ids, solve result). kinematics: "known" (hand2head from
+    """Returns (problem, ids, solve result). kinematics: "known" (head_from_hand from
     forward kinematics) or "dh" (unknown DH parameters from joint readings)."""
     p = data["p_board"]
     B = data["boards"]
     # ---- closed-form initial values of the board step
-    Kl, b2l = init_camera([p[b["vis_left"]] for b in B], [b["z_left"] for b in B], SIZE)
-    Kr, b2r = init_camera([p[b["vis_right"]] for b in B], [b["z_right"] for b in B], SIZE)
-    R_imu = rotation_between(np.array([T.rot.R @ G_WORLD for T in b2l]), np.array([b["g"] for b in B]))
+    Kl, left_from_board = init_camera([p[b["vis_left"]] for b in B], [b["z_left"] for b in B], SIZE)
+    Kr, right_from_board = init_camera([p[b["vis_right"]] for b in B], [b["z_right"] for b in B], SIZE)
+    R_imu = rotation_between(np.array([T.rot.R @ G_WORLD for T in left_from_board]), np.array([b["g"] for b in B]))
 
     o = bp.OptimizationProblem()
     left = add_camera(o, "left", Kl, MODEL)
     right = add_camera(o, "right", Kr, MODEL)
     identity = o.add_random_var(bp.SE3(), fixed=True, name="identity")
-    left2right = o.add_random_var(relative_pose_init(b2l, b2r), name="left2right")
-    left2imu = o.add_random_var(bp.SE3(bp.SO3(R_imu), data["imu_pos_by_hand"]), name="left2imu")
-    o.add_measurement(data["imu_pos_by_hand"], imu_position, [left2imu],
-                      sigma=data["imu_by_hand_sigma"], name="left2imu_by_hand")
-    for i, (b, T) in enumerate(zip(B, b2l)):
-        l2w = o.add_random_var(T.inverse(), name=f"left2world_{i}")
-        o.add_board(b["z_left"], left, l2w, identity, p[b["vis_left"]], sigma=data["pixel_sigma"],
+    right_from_left = o.add_random_var(relative_pose_init(left_from_board, right_from_board), name="right_from_left")
+    imu_from_left = o.add_random_var(bp.SE3(bp.SO3(R_imu), data["imu_pos_by_hand"]), name="imu_from_left")
+    o.add_measurement(data["imu_pos_by_hand"], imu_position, [imu_from_left],
+                      sigma=data["imu_by_hand_sigma"], name="imu_from_left_by_hand")
+    for i, (b, T) in enumerate(zip(B, left_from_board)):
+        world_from_left = o.add_random_var(T.inverse(), name=f"world_from_left_{i}")
+        o.add_board(b["z_left"], left, world_from_left, identity, p[b["vis_left"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="board left")
-        o.add_board(b["z_right"], right, l2w, left2right, p[b["vis_right"]],
+        o.add_board(b["z_right"], right, world_from_left, right_from_left, p[b["vis_right"]],
                     sigma=data["pixel_sigma"], model=MODEL, group="board right")
-        o.add_gravity(b["g"], l2w, left2imu, None, G_WORLD, sigma=data["accel_sigma"], group="imu")
+        o.add_gravity(b["g"], world_from_left, imu_from_left, None, G_WORLD, sigma=data["accel_sigma"], group="imu")
     o.solve()  # the board step: cameras, stereo, IMU rotation
 
     # ---- markers: triangulate with the board step, then marker_hand_eye (closed form)
     def fk(side, a):
         if kinematics == "known":
-            return a["hand2head"]
-        return hand2head(DH_NOMINAL, a["q"], side, a["pan"], a["tilt"])
+            return a["head_from_hand"]
+        return head_from_hand(DH_NOMINAL, a["q"], side, a["pan"], a["tilt"])
 
     arms = data["arms"]
     P, H = [], []
     for side in "lr":
         zl = np.array([a["z_left"] for a in arms[side]])
         zr = np.array([a["z_right"] for a in arms[side]])
-        P.append(triangulate(zl, zr, o[left].vec, o[right].vec, o[left2right], MODEL))
+        P.append(triangulate(zl, zr, o[left].vec, o[right].vec, o[right_from_left], MODEL))
         H.append([fk(side, a) for a in arms[side]])
     left2head0, (pl0, pr0) = marker_hand_eye(P, H)
-    left2head = o.add_random_var(left2head0, name="left2head")
-    ids = dict(left=left, right=right, left2right=left2right, left2imu=left2imu, left2head=left2head)
+    head_from_left = o.add_random_var(left2head0, name="head_from_left")
+    ids = dict(left=left, right=right, right_from_left=right_from_left, imu_from_left=imu_from_left, head_from_left=head_from_left)
     for side, p0 in zip("lr", (pl0, pr0)):
         ph = o.add_random_var(bp.Rn(p0), name=f"p_hand_{side}", labels=["x", "y", "z"])
         ids[f"p_hand_{side}"] = ph
@@ -239,13 +239,13 @@ def calibrate(data, kinematics="known", dh_prior=True):
             if dh_prior:
                 o.add_prior(dh, bp.Rn(DH_NOMINAL), sigma=DH_SIGMA, name=f"CAD dh_{side}")
         for j, a in enumerate(arms[side]):
-            for cam, l2c, z in ((left, identity, a["z_left"]), (right, left2right, a["z_right"])):
+            for cam, cam_from_left, z in ((left, identity, a["z_left"]), (right, right_from_left, a["z_right"])):
                 if kinematics == "known":
-                    o.add_marker(z, cam, left2head, ph, l2c, a["hand2head"], sigma=data["marker_sigma"],
+                    o.add_marker(z, cam, head_from_left, ph, cam_from_left, a["head_from_hand"], sigma=data["marker_sigma"],
                                  model=MODEL, group=f"marker {side}")
                 else:
-                    o.add_dh_marker(z, cam, left2head, ph, l2c, dh, a["q"],
-                                    base2chain=base2chain(side, a["pan"], a["tilt"]),
+                    o.add_dh_marker(z, cam, head_from_left, ph, cam_from_left, dh, a["q"],
+                                    base_from_chain=base_from_chain(side, a["pan"], a["tilt"]),
                                     sigma=data["marker_sigma"], model=MODEL, group=f"marker {side}")
     result = o.solve()  # everything jointly
     return o, ids, result
@@ -276,10 +276,10 @@ def main():
         from boxplus.calib.plot import plot_reprojection_errors, plot_rig
 
         plot_reprojection_errors(o, f"{args.out}/humanoid_head_reprojection.png")
-        head2left = o[ids["left2head"]].inverse()
-        frames = {"left": bp.SE3(), "right": o[ids["left2right"]].inverse(),
-                  "imu": o[ids["left2imu"]].inverse(), "head": head2left}
-        markers = {f"hand {s}": np.array([o[ids["left2head"]].tolocal(a["hand2head"].fromlocal(
+        left_from_head = o[ids["head_from_left"]].inverse()
+        frames = {"left": bp.SE3(), "right": o[ids["right_from_left"]].inverse(),
+                  "imu": o[ids["imu_from_left"]].inverse(), "head": left_from_head}
+        markers = {f"hand {s}": np.array([o[ids["head_from_left"]].tolocal(a["head_from_hand"].fromlocal(
             o[ids[f"p_hand_{s}"]].vec)) for a in data["arms"][s]]) for s in "lr"}
         plot_rig(f"{args.out}/humanoid_head_rig.png", frames, points=markers, length=0.05)
 

@@ -48,15 +48,18 @@ LIT_CORNERS = 3  # corners of a board view the laser is aimed at (it cannot ligh
 SIGMA_POINT = {"stereo": 1.5e-3, "laser": 1.0e-3, "arm": 0.3e-3}
 
 
+UP = (0.0, 0.0, 1.0)  # the world's z appears up in every image (look_at's ``up``)
+
+
 def make_robot(rng):
     """The true robot: parameters and sensor poses in the arm's base frame."""
     target = np.array([0.30, 0.0, 0.05])
     truth = {
         "cam1": camera(610.0, 322.0, 236.0, -0.12),
         "cam2": camera(595.0, 317.0, 243.0, -0.09),
-        "world_from_cam1": look_at(np.array([-0.15, 0.06, 0.55]), target),
-        "world_from_cam2": look_at(np.array([-0.15, -0.06, 0.55]), target + [0, -0.02, 0]),
-        "world_from_laser": look_at(np.array([-0.12, -0.22, 0.58]), target),
+        "world_from_cam1": look_at(np.array([-0.15, 0.06, 0.55]), target, UP),
+        "world_from_cam2": look_at(np.array([-0.15, -0.06, 0.55]), target + [0, -0.02, 0], UP),
+        "world_from_laser": look_at(np.array([-0.12, -0.22, 0.58]), target, UP),
         "lengths": NOMINAL_LENGTHS + rng.normal(0, 0.004, 4),
         "offsets": rng.normal(0, np.radians(1.5), 4),
     }
@@ -64,17 +67,17 @@ def make_robot(rng):
     return truth
 
 
-def _pixels(truth, cam, p_world):
+def _pixels(truth, cam, p_in_world):
     T = truth[f"world_from_{cam}"]
     c = truth[cam]
-    p = (p_world - T.pos) @ T.R  # tolocal
+    p = (p_in_world - T.pos) @ T.R  # tolocal
     b = view(codec_of(c), np.tile(c.ambient, (len(p), 1)))
     return project(b, p), p[:, 2]
 
 
-def _beta(truth, p_world):
+def _beta(truth, p_in_world):
     T = truth["world_from_laser"]
-    p = (p_world - T.pos) @ T.R
+    p = (p_in_world - T.pos) @ T.R
     return np.arctan2(p[:, 0], p[:, 2])
 
 
@@ -111,17 +114,17 @@ def _random_patch_pose(rng):
     centre = np.array([rng.uniform(0.22, 0.38), rng.uniform(-0.12, 0.12), rng.uniform(0.0, 0.15)])
     towards = np.array([-0.15, 0.0, 0.55]) - centre
     normal = towards / np.linalg.norm(towards)
-    R = bp.SO3.exp(rng.normal(0, 0.3, 3)).R @ look_at(centre, centre - normal).R
+    R = bp.SO3.exp(rng.normal(0, 0.3, 3)).R @ look_at(centre, centre - normal, UP).R
     return centre, R
 
 
-def _observe(truth, p_world, rng):
+def _observe(truth, p_in_world, rng):
     """The data of each system at world points: stereo, laser+cam1, laser+cam2, and depths."""
-    u1, z1 = _pixels(truth, "cam1", p_world)
-    u2, z2 = _pixels(truth, "cam2", p_world)
+    u1, z1 = _pixels(truth, "cam1", p_in_world)
+    u2, z2 = _pixels(truth, "cam2", p_in_world)
     u1 = u1 + rng.normal(0, SIGMA_PX, u1.shape)
     u2 = u2 + rng.normal(0, SIGMA_PX, u2.shape)
-    beta = _beta(truth, p_world) + rng.normal(0, SIGMA_BETA, len(p_world))
+    beta = _beta(truth, p_in_world) + rng.normal(0, SIGMA_BETA, len(p_in_world))
     ok = np.all((u1 > 0) & (u1 < [640, 480]), 1) & np.all((u2 > 0) & (u2 < [640, 480]), 1) & (z1 > 0) & (z2 > 0)
     return {"stereo": np.column_stack([u1, u2]), "laser_cam1": np.column_stack([u1, beta]),
             "laser_cam2": np.column_stack([u2, beta])}, ok

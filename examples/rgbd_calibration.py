@@ -5,19 +5,19 @@ jointly, from a levelled checkerboard; simulated with known truth.
 
 Unknowns (the RGB camera is the reference frame x):
     rgb, ir          intrinsics (opencv5)
-    rgb2ir           stereo extrinsics (RGB → IR camera)
+    ir_from_rgb           stereo extrinsics (RGB → IR camera)
     disparity        [a, b] of the depth-to-disparity model below
-    rgb2accel        camera → accelerometer (rotation from gravity; the
+    accel_from_rgb        camera → accelerometer (rotation from gravity; the
                      translation does not enter any measurement and is
                      measured by hand: a prior)
     accel            [s], the accelerometer's scale factor
-    rgb2world_i      one pose per board image (world = the board)
+    world_from_rgb_i      one pose per board image (world = the board)
 Measurements:
-    corners     z = π(k_c, rgb2c ∘ rgb2world_i⁻¹ ∘ p_board)      (px, c = rgb, ir)
-    disparity   d = a / Z + b,  Z = [rgb2ir ∘ rgb2world_i⁻¹ ∘ p_board]_z   (raw units)
-    gravity     g = s · R_rgb2accel · R_rgb2world_iᵀ · g_world    (m/s², levelled board)
+    corners     z = π(k_c, cam_from_rgb ∘ world_from_rgb_i⁻¹ ∘ p_board)      (px, c = rgb, ir)
+    disparity   d = a / Z + b,  Z = [ir_from_rgb ∘ world_from_rgb_i⁻¹ ∘ p_board]_z   (raw units)
+    gravity     g = s · R_accel_from_rgb · R_world_from_rgb_iᵀ · g_world    (m/s², levelled board)
 
-Depth-to-disparity model (factors/disparity.h): a structured-light sensor
+Depth-to-disparity model (factors/depth/disparity.h): a structured-light sensor
 reports a raw disparity d that is affine in inverse depth, d = a / Z + b, the
 usual Z = 1 / (c₁ d + c₀) with a = 1/c₁, b = −c₀/c₁; Z (m) is the depth of the
 point along the IR camera's optical axis. Its depth is not measured directly:
@@ -26,7 +26,7 @@ of "well perceived" board points (inner corners away from the board's edge)
 calibrates [a, b]. The Kinect's values are about a = −325.6 units·m,
 b = 1084.6 units (Burrus' c₁ = −0.0030711, c₀ = 3.3309495).
 
-Initial values, closed form: Zhang per camera, rgb2ir the chordal mean of the
+Initial values, closed form: Zhang per camera, ir_from_rgb the chordal mean of the
 per-view transforms, [a, b] by a line fit of d against 1/Z from those poses,
 the accelerometer rotation by Kabsch from gravity pairs and its scale from the
 mean norm of the readings.
@@ -50,9 +50,9 @@ G_WORLD = np.array([0.0, 0.0, -9.81])
 TRUTH = dict(
     rgb=np.array([525.0, 523.0, 319.5, 239.5, 0.18, -0.35, 0.001, -0.0007, 0.0]),
     ir=np.array([584.0, 582.0, 316.0, 247.0, -0.12, 0.28, -0.0012, 0.0008, 0.0]),
-    rgb2ir=bp.SE3(bp.SO3.exp(np.array([0.003, 0.006, -0.002])), [0.025, 0.0006, -0.0012]),
+    ir_from_rgb=bp.SE3(bp.SO3.exp(np.array([0.003, 0.006, -0.002])), [0.025, 0.0006, -0.0012]),
     disparity=np.array([-325.6, 1084.6]),
-    rgb2accel=bp.SE3(bp.SO3.exp(np.array([0.02, -1.55, 0.01])), [0.0, 0.05, 0.02]),
+    accel_from_rgb=bp.SE3(bp.SO3.exp(np.array([0.02, -1.55, 0.01])), [0.0, 0.05, 0.02]),
     accel=np.array([1.03]),
 )
 
@@ -68,61 +68,61 @@ def simulate(rng, pixel_sigma=0.5, disparity_sigma=None, accel_sigma=0.02, accel
     disparity_sigma = pixel_sigma if disparity_sigma is None else disparity_sigma
     p = board_points()
     use = well_perceived(p)
-    ir2rgb = TRUTH["rgb2ir"].inverse()
+    rgb_from_ir = TRUTH["ir_from_rgb"].inverse()
     a, b = TRUTH["disparity"]
     views = []
-    for rgb2world in random_views(n_views, rng, p.mean(axis=0), distance=0.5, spread=0.5):
-        z_rgb, v_rgb = observe(TRUTH["rgb"], rgb2world, p, pixel_sigma, rng)
-        z_ir, v_ir = observe(TRUTH["ir"], rgb2world * ir2rgb, p, pixel_sigma, rng)
+    for world_from_rgb in random_views(n_views, rng, p.mean(axis=0), distance=0.5, spread=0.5):
+        z_rgb, v_rgb = observe(TRUTH["rgb"], world_from_rgb, p, pixel_sigma, rng)
+        z_ir, v_ir = observe(TRUTH["ir"], world_from_rgb * rgb_from_ir, p, pixel_sigma, rng)
         d_mask = use & v_ir
-        Z = TRUTH["rgb2ir"].fromlocal(rgb2world.tolocal(p[d_mask]))[:, 2]
+        Z = TRUTH["ir_from_rgb"].fromlocal(world_from_rgb.tolocal(p[d_mask]))[:, 2]
         d = a / Z + b + rng.normal(0, disparity_sigma, len(Z))
-        g = TRUTH["accel"][0] * TRUTH["rgb2accel"].rot.R @ rgb2world.rot.R.T @ G_WORLD
+        g = TRUTH["accel"][0] * TRUTH["accel_from_rgb"].rot.R @ world_from_rgb.rot.R.T @ G_WORLD
         views.append(dict(z_rgb=z_rgb, vis_rgb=v_rgb, z_ir=z_ir, vis_ir=v_ir, d=d, d_mask=d_mask,
                           g=g + rng.normal(0, accel_sigma, 3)))
     return dict(p_board=p, views=views, pixel_sigma=pixel_sigma, disparity_sigma=disparity_sigma,
-                accel_sigma=accel_sigma, accel_pos_by_hand=TRUTH["rgb2accel"].pos
+                accel_sigma=accel_sigma, accel_pos_by_hand=TRUTH["accel_from_rgb"].pos
                 + rng.normal(0, accel_by_hand_sigma, 3), accel_by_hand_sigma=accel_by_hand_sigma)
 
 
-def accel_position(rgb2accel):
-    return rgb2accel.pos
+def accel_position(accel_from_rgb):
+    return accel_from_rgb.pos
 
 
 def calibrate(data):
     p, V = data["p_board"], data["views"]
     # ---- closed-form initial values
-    K_rgb, b2rgb = init_camera([p[v["vis_rgb"]] for v in V], [v["z_rgb"] for v in V], SIZE)
-    K_ir, b2ir = init_camera([p[v["vis_ir"]] for v in V], [v["z_ir"] for v in V], SIZE)
-    inv_Z = np.concatenate([1 / T.fromlocal(p[v["d_mask"]])[:, 2] for v, T in zip(V, b2ir)])
+    K_rgb, rgb_from_board = init_camera([p[v["vis_rgb"]] for v in V], [v["z_rgb"] for v in V], SIZE)
+    K_ir, ir_from_board = init_camera([p[v["vis_ir"]] for v in V], [v["z_ir"] for v in V], SIZE)
+    inv_Z = np.concatenate([1 / T.fromlocal(p[v["d_mask"]])[:, 2] for v, T in zip(V, ir_from_board)])
     d_all = np.concatenate([v["d"] for v in V])
     ab0 = np.linalg.lstsq(np.column_stack([inv_Z, np.ones_like(inv_Z)]), d_all, rcond=None)[0]
     G = np.array([v["g"] for v in V])
-    R_acc = rotation_between(np.array([T.rot.R @ G_WORLD for T in b2rgb]), G)
+    R_acc = rotation_between(np.array([T.rot.R @ G_WORLD for T in rgb_from_board]), G)
     s0 = np.mean(np.linalg.norm(G, axis=1)) / np.linalg.norm(G_WORLD)
 
     o = bp.OptimizationProblem()
     rgb = add_camera(o, "rgb", K_rgb, MODEL)
     ir = add_camera(o, "ir", K_ir, MODEL)
     identity = o.add_random_var(bp.SE3(), fixed=True, name="identity")
-    rgb2ir = o.add_random_var(relative_pose_init(b2rgb, b2ir), name="rgb2ir")
+    ir_from_rgb = o.add_random_var(relative_pose_init(rgb_from_board, ir_from_board), name="ir_from_rgb")
     disparity = o.add_random_var(bp.Rn(ab0), name="disparity", labels=["a", "b"])
-    rgb2accel = o.add_random_var(bp.SE3(bp.SO3(R_acc), data["accel_pos_by_hand"]), name="rgb2accel")
+    accel_from_rgb = o.add_random_var(bp.SE3(bp.SO3(R_acc), data["accel_pos_by_hand"]), name="accel_from_rgb")
     accel = o.add_random_var(bp.Rn([s0]), name="accel", labels=["scale"])
-    o.add_measurement(data["accel_pos_by_hand"], accel_position, [rgb2accel],
-                      sigma=data["accel_by_hand_sigma"], name="rgb2accel_by_hand")
-    for i, (v, T) in enumerate(zip(V, b2rgb)):
-        r2w = o.add_random_var(T.inverse(), name=f"rgb2world_{i}")
-        o.add_board(v["z_rgb"], rgb, r2w, identity, p[v["vis_rgb"]], sigma=data["pixel_sigma"],
+    o.add_measurement(data["accel_pos_by_hand"], accel_position, [accel_from_rgb],
+                      sigma=data["accel_by_hand_sigma"], name="accel_from_rgb_by_hand")
+    for i, (v, T) in enumerate(zip(V, rgb_from_board)):
+        world_from_rgb = o.add_random_var(T.inverse(), name=f"world_from_rgb_{i}")
+        o.add_board(v["z_rgb"], rgb, world_from_rgb, identity, p[v["vis_rgb"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="rgb")
-        o.add_board(v["z_ir"], ir, r2w, rgb2ir, p[v["vis_ir"]], sigma=data["pixel_sigma"],
+        o.add_board(v["z_ir"], ir, world_from_rgb, ir_from_rgb, p[v["vis_ir"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="ir")
-        for d, p_world in zip(v["d"], p[v["d_mask"]]):
-            o.add_disparity(d, r2w, rgb2ir, disparity, p_world, sigma=data["disparity_sigma"])
-        o.add_gravity(v["g"], r2w, rgb2accel, accel, G_WORLD, sigma=data["accel_sigma"],
+        for d, p_in_world in zip(v["d"], p[v["d_mask"]]):
+            o.add_disparity(d, world_from_rgb, ir_from_rgb, disparity, p_in_world, sigma=data["disparity_sigma"])
+        o.add_gravity(v["g"], world_from_rgb, accel_from_rgb, accel, G_WORLD, sigma=data["accel_sigma"],
                       group="accelerometer")
     result = o.solve()
-    ids = dict(rgb=rgb, ir=ir, rgb2ir=rgb2ir, disparity=disparity, rgb2accel=rgb2accel, accel=accel)
+    ids = dict(rgb=rgb, ir=ir, ir_from_rgb=ir_from_rgb, disparity=disparity, accel_from_rgb=accel_from_rgb, accel=accel)
     return o, ids, result
 
 
@@ -149,7 +149,7 @@ def main():
         from boxplus.calib.plot import plot_reprojection_errors, plot_rig
 
         plot_reprojection_errors(o, f"{args.out}/rgbd_reprojection.png")
-        frames = {"rgb": bp.SE3(), "ir": o[ids["rgb2ir"]].inverse(), "accel": o[ids["rgb2accel"]].inverse()}
+        frames = {"rgb": bp.SE3(), "ir": o[ids["ir_from_rgb"]].inverse(), "accel": o[ids["accel_from_rgb"]].inverse()}
         plot_rig(f"{args.out}/rgbd_rig.png", frames, length=0.02)
 
 

@@ -6,19 +6,19 @@ camera's intrinsics well determined. Simulated with known truth.
 
 Unknowns (the top camera is the reference frame x):
     top, bottom          intrinsics (radial2: fx fy cx cy k1 k2)
-    top2bottom           stereo extrinsics
-    top2world_i          one pose per stereo pair (world = the board)
-    top_mono2world_j,    one pose per extra mono image of each camera
-    bottom_mono2world_j
+    bottom_from_top           stereo extrinsics
+    world_from_top_i          one pose per stereo pair (world = the board)
+    world_from_top_mono_j,    one pose per extra mono image of each camera
+    world_from_bottom_mono_j
 Measurements (the board factor with the visible corners only):
-    stereo pair   z_top = π(k_top, top2world_i⁻¹ ∘ p)            (partial board)
-                  z_bot = π(k_bot, top2bottom ∘ top2world_i⁻¹ ∘ p) (the other part)
-    mono image    z = π(k_c, c_mono2world_j⁻¹ ∘ p)                 (whole board)
+    stereo pair   z_top = π(k_top, world_from_top_i⁻¹ ∘ p)            (partial board)
+                  z_bot = π(k_bot, bottom_from_top ∘ world_from_top_i⁻¹ ∘ p) (the other part)
+    mono image    z = π(k_c, world_from_c_mono_j⁻¹ ∘ p)                 (whole board)
 Compared with a plain stereo calibration only the mono poses and their board
 measurements are added (the paper's point).
 
 Initial values, closed form: Zhang per camera over all its views (homographies
-of partial views use their visible corners), top2bottom the chordal mean of the
+of partial views use their visible corners), bottom_from_top the chordal mean of the
 per-pair transforms.
 
 Run: .venv/bin/python examples/vertical_stereo_calibration.py [--noise PX] [--no-mono]
@@ -37,14 +37,14 @@ from boxplus.calib.synthetic import board_points, observe, random_views
 MODEL = "radial2"
 SIZE = (640, 480)
 TILT = np.deg2rad(43.0)
-_bottom2top = bp.SE3(bp.SO3.exp(np.array([-TILT, 0.003, -0.002])), [0.001, 0.05, 0.002])
+_top_from_bottom = bp.SE3(bp.SO3.exp(np.array([-TILT, 0.003, -0.002])), [0.001, 0.05, 0.002])
 TRUTH = dict(
     top=np.array([556.0, 554.0, 322.0, 236.0, -0.07, 0.12]),
     bottom=np.array([549.0, 548.0, 315.0, 244.0, -0.05, 0.09]),
-    top2bottom=_bottom2top.inverse(),
+    bottom_from_top=_top_from_bottom.inverse(),
 )
 # a virtual camera on the bisector of the two optical axes, for placing the board
-_top2mid = bp.SE3(bp.SO3.exp(np.array([TILT / 2, 0, 0])), [0.0, -0.025, 0.0])
+_mid_from_top = bp.SE3(bp.SO3.exp(np.array([TILT / 2, 0, 0])), [0.0, -0.025, 0.0])
 
 
 def _board():
@@ -56,19 +56,19 @@ def simulate(rng, pixel_sigma=0.5, n_stereo=10, n_mono=6, min_points=12):
     center = p.mean(axis=0)
     stereo = []
     while len(stereo) < n_stereo:
-        mid2world = random_views(1, rng, center, distance=rng.uniform(0.45, 0.6), spread=0.25)[0]
-        top2world = mid2world * _top2mid
-        bottom2world = top2world * TRUTH["top2bottom"].inverse()
-        zt, vt = observe(TRUTH["top"], top2world, p, pixel_sigma, rng, MODEL)
-        zb, vb = observe(TRUTH["bottom"], bottom2world, p, pixel_sigma, rng, MODEL)
+        world_from_mid = random_views(1, rng, center, distance=rng.uniform(0.45, 0.6), spread=0.25)[0]
+        world_from_top = world_from_mid * _mid_from_top
+        world_from_bottom = world_from_top * TRUTH["bottom_from_top"].inverse()
+        zt, vt = observe(TRUTH["top"], world_from_top, p, pixel_sigma, rng, MODEL)
+        zb, vb = observe(TRUTH["bottom"], world_from_bottom, p, pixel_sigma, rng, MODEL)
         if vt.sum() >= min_points and vb.sum() >= min_points:
             stereo.append(dict(z_top=zt, vis_top=vt, z_bottom=zb, vis_bottom=vb))
     mono = {}
     for cam in ("top", "bottom"):
         mono[cam] = []
         while len(mono[cam]) < n_mono:
-            c2w = random_views(1, rng, center, distance=rng.uniform(0.75, 0.9), spread=0.35)[0]
-            z, vis = observe(TRUTH[cam], c2w, p, pixel_sigma, rng, MODEL)
+            world_from_cam = random_views(1, rng, center, distance=rng.uniform(0.75, 0.9), spread=0.35)[0]
+            z, vis = observe(TRUTH[cam], world_from_cam, p, pixel_sigma, rng, MODEL)
             if vis.all():
                 mono[cam].append(z)
     return dict(p_board=p, stereo=stereo, mono=mono, pixel_sigma=pixel_sigma)
@@ -78,30 +78,30 @@ def calibrate(data, use_mono=True):
     p, S = data["p_board"], data["stereo"]
     mono = data["mono"] if use_mono else {"top": [], "bottom": []}
     # ---- closed form: Zhang per camera over its stereo (partial) and mono (whole) views
-    K, board2cam = {}, {}
+    K, cam_from_board = {}, {}
     for cam in ("top", "bottom"):
         objs = [p[s[f"vis_{cam}"]] for s in S] + [p] * len(mono[cam])
-        K[cam], board2cam[cam] = init_camera(objs, [s[f"z_{cam}"] for s in S] + mono[cam], SIZE)
+        K[cam], cam_from_board[cam] = init_camera(objs, [s[f"z_{cam}"] for s in S] + mono[cam], SIZE)
     o = bp.OptimizationProblem()
     top = add_camera(o, "top", K["top"], MODEL)
     bottom = add_camera(o, "bottom", K["bottom"], MODEL)
     identity = o.add_random_var(bp.SE3(), fixed=True, name="identity")
     n = len(S)
-    top2bottom = o.add_random_var(relative_pose_init(board2cam["top"][:n], board2cam["bottom"][:n]),
-                                  name="top2bottom")
+    bottom_from_top = o.add_random_var(relative_pose_init(cam_from_board["top"][:n], cam_from_board["bottom"][:n]),
+                                  name="bottom_from_top")
     sigma = data["pixel_sigma"]
-    for i, (s, T) in enumerate(zip(S, board2cam["top"])):
-        t2w = o.add_random_var(T.inverse(), name=f"top2world_{i}")
-        o.add_board(s["z_top"], top, t2w, identity, p[s["vis_top"]], sigma=sigma, model=MODEL,
+    for i, (s, T) in enumerate(zip(S, cam_from_board["top"])):
+        world_from_top = o.add_random_var(T.inverse(), name=f"world_from_top_{i}")
+        o.add_board(s["z_top"], top, world_from_top, identity, p[s["vis_top"]], sigma=sigma, model=MODEL,
                     group="stereo top")
-        o.add_board(s["z_bottom"], bottom, t2w, top2bottom, p[s["vis_bottom"]], sigma=sigma,
+        o.add_board(s["z_bottom"], bottom, world_from_top, bottom_from_top, p[s["vis_bottom"]], sigma=sigma,
                     model=MODEL, group="stereo bottom")
     for cam, cid in (("top", top), ("bottom", bottom)):
-        for j, (z, T) in enumerate(zip(mono[cam], board2cam[cam][n:])):
-            c2w = o.add_random_var(T.inverse(), name=f"{cam}_mono2world_{j}")
-            o.add_board(z, cid, c2w, identity, p, sigma=sigma, model=MODEL, group=f"mono {cam}")
+        for j, (z, T) in enumerate(zip(mono[cam], cam_from_board[cam][n:])):
+            world_from_cam = o.add_random_var(T.inverse(), name=f"world_from_{cam}_mono_{j}")
+            o.add_board(z, cid, world_from_cam, identity, p, sigma=sigma, model=MODEL, group=f"mono {cam}")
     result = o.solve()
-    return o, dict(top=top, bottom=bottom, top2bottom=top2bottom), result
+    return o, dict(top=top, bottom=bottom, bottom_from_top=bottom_from_top), result
 
 
 def errors_in_sigma(o, rep, ids):
@@ -128,7 +128,7 @@ def main():
         print(f"  condition number {rep.condition:.3g}; max |error|/σ "
               f"{max(v.max() for v in err.values()):.2f}")
     print("\nσ without / σ with the mono images:")
-    for name in ("top", "bottom", "top2bottom"):
+    for name in ("top", "bottom", "bottom_from_top"):
         ratio = reps[False].std(name) / reps[True].std(name)
         labels = [p.label for p in reps[True].parameters if p.variable == name]
         print(f"  {name:10s} " + "  ".join(f"{lab} {r:.2f}" for lab, r in zip(labels, ratio)))

@@ -15,7 +15,12 @@ void RegisterPythonManifold(pybind11::module_& m);
 void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
 void RegisterPythonMeasurements(pybind11::module_& m);
-void RegisterFactors(pybind11::module_& m);
+// The factors, one function per domain (bindings/factors/<domain>.cc).
+void RegisterCameraFactors(pybind11::module_& m);
+void RegisterKinematicsFactors(pybind11::module_& m);
+void RegisterImuFactors(pybind11::module_& m);
+void RegisterDepthFactors(pybind11::module_& m);
+void RegisterPoseFactors(pybind11::module_& m);
 void RegisterSlam(pybind11::module_& m);
 
 }  // namespace boxplus::python

@@ -12,6 +12,10 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterValues(m);
   boxplus::python::RegisterProblem(m);
   boxplus::python::RegisterPythonMeasurements(m);
-  boxplus::python::RegisterFactors(m);
+  boxplus::python::RegisterCameraFactors(m);
+  boxplus::python::RegisterKinematicsFactors(m);
+  boxplus::python::RegisterImuFactors(m);
+  boxplus::python::RegisterDepthFactors(m);
+  boxplus::python::RegisterPoseFactors(m);
   boxplus::python::RegisterSlam(m);
 }

@@ -28,6 +28,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Set, Tuple
 import numpy as np
 
 from boxplus import _core, batch
+from boxplus.calib.factors import CalibrationFactors
 from boxplus.losses import LossSpec, make_loss
 from boxplus.manifolds import Codec, codec_of
 from boxplus.measurements import EvaluationError, Group, batch_errors, note, vector_error
@@ -47,7 +48,7 @@ def _is_id(v: Any) -> bool:
     return isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
 
 
-class OptimizationProblem:
+class OptimizationProblem(CalibrationFactors):
     """A least-squares problem on manifolds (MTKM's OptimizationProblem).
 
     Examples
@@ -392,197 +393,6 @@ class OptimizationProblem:
         nm = noise_model(codec.dof, sigma, covariance, information, noise, what)
         mid = self._core.add_prior(int(vid), codec.to_ambient(z), nm, name or "", make_loss(loss, what))
         return self._register(mid, "prior")
-
-    def add_projection(
-        self,
-        z: Any,
-        intrinsics: int,
-        x2world: int,
-        x2cam: int,
-        p_world: Any,
-        sigma: Any = None,
-        covariance: Any = None,
-        information: Any = None,
-        noise: Optional[NoiseModel] = None,
-        model: str = "simple_radial",
-        loss: LossSpec = None,
-        name: Optional[str] = None,
-    ) -> int:
-        """Adds the C++ pinhole factor: z ≈ π(k, x2cam ∘ x2world⁻¹ ∘ p_world).
-
-        ``intrinsics`` must hold ``camera_model_size(model)`` ambient numbers in the
-        model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
-        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]); ``x2world`` and
-        ``x2cam`` are SE3 variables (fix ``x2cam`` to the identity for one camera).
-        """
-        what = f"measurement '{name}'" if name else f"projection #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2world, x2cam], what)
-        nm = noise_model(2, sigma, covariance, information, noise, what)
-        zz = np.asarray(z, dtype=float).reshape(2)
-        pw = np.asarray(p_world, dtype=float).reshape(3)
-        mid = self._core.add_pinhole_point(model, *ids, zz, nm, pw, name or "", make_loss(loss, what))
-        return self._register(mid, f"projection[{model}]")
-
-    # ---- interim calibration wrappers (package B moves them to calib/factors.py) -----
-    def add_board(
-        self,
-        z: Any,
-        intrinsics: int,
-        x2world: int,
-        x2cam: int,
-        p_world: Any,
-        sigma: Any = None,
-        covariance: Any = None,
-        information: Any = None,
-        noise: Optional[NoiseModel] = None,
-        model: str = "opencv5",
-        loss: LossSpec = None,
-        name: Optional[str] = None,
-        group: Optional[str] = None,
-    ) -> int:
-        """All visible points of a board in one C++ factor (see factors/board.h).
-
-        r_j = W (π(k, x2cam ∘ x2world⁻¹ ∘ p_world_j) − z_j); ``z`` (N, 2) pixels,
-        ``p_world`` (N, 3) the same points in the board ("world") frame, the noise
-        (σ, σᵢ or a 2×2 ``covariance``) is shared by the points. ``group`` names the measurement
-        group in RMS reports (default ``board[model]``).
-        """
-        what = f"measurement '{name}'" if name else f"board #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2world, x2cam], what)
-        zz = np.asarray(z, dtype=float)
-        pw = np.asarray(p_world, dtype=float)
-        if zz.ndim != 2 or zz.shape[1] != 2 or pw.shape != (len(zz), 3) or len(zz) == 0:
-            raise ValueError(f"{what}: z must be (N, 2) and p_world (N, 3) with N >= 1, got "
-                             f"{zz.shape} and {pw.shape}")
-        if not (np.all(np.isfinite(zz)) and np.all(np.isfinite(pw))):
-            raise ValueError(f"{what}: non-finite points (an undetected board?)")
-        size = _core.camera_model_size(model)
-        if self.codec(intrinsics).ambient_size != size:
-            raise ValueError(f"{what}: camera model '{model}' needs {size} intrinsics, variable "
-                             f"'{self.variable_name(intrinsics)}' has {self.codec(intrinsics).ambient_size}")
-        nm = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_pinhole_board(model, *ids, np.ascontiguousarray(zz), nm,
-                                           np.ascontiguousarray(pw), name or "", make_loss(loss, what))
-        return self._register(mid, group or f"board[{model}]")
-
-    def add_marker(
-        self, z: Any, intrinsics: int, x2base: int, p_in_hand: int, x2cam: int, hand2base: Any,
-        sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
-        name: Optional[str] = None, group: Optional[str] = None,
-    ) -> int:
-        """A marker on a hand, ``hand2base`` (SE3) from forward kinematics (factors/marker.h)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"marker #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2base, p_in_hand, x2cam], what)
-        if not isinstance(hand2base, SE3):
-            raise TypeError(f"{what}: hand2base must be an SE3")
-        nm = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_marker(model, *ids, np.asarray(z, float).reshape(2), nm,
-                                    hand2base.ambient, name or "", make_loss(loss, what))
-        return self._register(mid, group or "marker")
-
-    def add_dh_marker(
-        self, z: Any, intrinsics: int, x2base: int, p_in_hand: int, x2cam: int, dh: int,
-        joints: Any, base2chain: Any = None, flange2hand: Any = None, sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None,
-        model: str = "opencv5", loss: LossSpec = None, name: Optional[str] = None,
-        group: Optional[str] = None,
-    ) -> int:
-        """A marker through a DH chain with unknown link parameters ``dh`` (an Rn(4n)
-        variable: per joint [θ offset, d, a, α]) and joint readings ``joints`` (rad)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"DH marker #{self.num_measurements}"
-        ids = self._check_ids([intrinsics, x2base, p_in_hand, x2cam, dh], what)
-        q = np.asarray(joints, float).reshape(-1)
-        if self.codec(dh).ambient_size != 4 * len(q):
-            raise ValueError(f"{what}: {len(q)} joint readings need a dh variable of {4 * len(q)} "
-                             f"numbers, '{self.variable_name(dh)}' has {self.codec(dh).ambient_size}")
-        pre = (base2chain or SE3()).ambient
-        post = (flange2hand or SE3()).ambient
-        nm = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_dh_marker(model, *ids, np.asarray(z, float).reshape(2), nm, q, pre, post,
-                                       name or "", make_loss(loss, what))
-        return self._register(mid, group or "marker")
-
-    def add_gravity(
-        self, z: Any, x2world: int, x2imu: int, accel: Optional[int] = None,
-        g_in_world: Any = (0.0, 0.0, -9.81), sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, loss: LossSpec = None,
-        name: Optional[str] = None, group: str = "gravity",
-    ) -> int:
-        """Gravity read by an accelerometer (factors/gravity.h): r = W (s R_imu_x
-        R_x2worldᵀ g + b − z). ``accel``: None (rotation only), an Rn(1) [s] or an
-        Rn(4) [s, bx, by, bz] variable."""
-        what = f"measurement '{name}'" if name else f"gravity #{self.num_measurements}"
-        ids = [x2world, x2imu] + ([] if accel is None else [accel])
-        ids = self._check_ids(ids, what)
-        if accel is None:
-            model = "rotation"
-        else:
-            n = self.codec(accel).ambient_size
-            model = {1: "scale", 4: "scale_bias"}.get(n)
-            if model is None:
-                raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
-        nm = noise_model(3, sigma, covariance, information, noise, what)
-        mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
-                                     np.asarray(z, float).reshape(3), nm,
-                                     np.asarray(g_in_world, float).reshape(3), name or "",
-                                     make_loss(loss, what))
-        return self._register(mid, group)
-
-    def add_relative_pose(
-        self, z_b2a: Any, a2world: int, b2world: int, sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, loss: LossSpec = None,
-        name: Optional[str] = None, group: str = "relative_pose",
-    ) -> int:
-        """r = W ((a2world⁻¹ ∘ b2world) ⊟ z_b2a), tangent [δp, δθ] (factors/relative_pose.h)."""
-        from boxplus.manifolds import SE3
-
-        what = f"measurement '{name}'" if name else f"relative pose #{self.num_measurements}"
-        ids = self._check_ids([a2world, b2world], what)
-        if not isinstance(z_b2a, SE3):
-            raise TypeError(f"{what}: z_b2a must be an SE3")
-        nm = noise_model(6, sigma, covariance, information, noise, what)
-        mid = self._core.add_relative_pose(*ids, z_b2a.ambient, nm, name or "", make_loss(loss, what))
-        return self._register(mid, group)
-
-    def add_point(
-        self, z: Any, x2world: int, x2cam: int, p_world: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None,
-        loss: LossSpec = None, name: Optional[str] = None, group: str = "point",
-    ) -> int:
-        """A 3-D point measured in a sensor (factors/point.h); ``p_world`` a known
-        point (3,) or the id of an Rn(3) variable."""
-        what = f"measurement '{name}'" if name else f"point #{self.num_measurements}"
-        if isinstance(p_world, (int, np.integer)):
-            ids = self._check_ids([x2world, x2cam, p_world], what)
-            pw, pid = np.zeros(3), ids[2]
-        else:
-            ids = self._check_ids([x2world, x2cam], what)
-            pw, pid = np.asarray(p_world, float).reshape(3), -1
-        nm = noise_model(3, sigma, covariance, information, noise, what)
-        mid = self._core.add_point(ids[0], ids[1], pid, np.asarray(z, float).reshape(3), nm, pw,
-                                   name or "", make_loss(loss, what))
-        return self._register(mid, group)
-
-    def add_disparity(
-        self, d: float, x2world: int, x2cam: int, disparity_params: int, p_world: Any,
-        sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, loss: LossSpec = None, name: Optional[str] = None,
-        group: str = "disparity",
-    ) -> int:
-        """Kinect-style disparity d = a / Z + b of a board point (factors/disparity.h);
-        ``disparity_params`` an Rn(2) variable [a, b]."""
-        what = f"measurement '{name}'" if name else f"disparity #{self.num_measurements}"
-        ids = self._check_ids([x2world, x2cam, disparity_params], what)
-        nm = noise_model(1, sigma, covariance, information, noise, what)
-        mid = self._core.add_disparity(*ids, float(d), nm,
-                                       np.asarray(p_world, float).reshape(3), name or "",
-                                       make_loss(loss, what))
-        return self._register(mid, group)
 
     def jacobian(self) -> Dict[str, Any]:
         """Whitened residuals and their dense Jacobian in the tangent spaces of the

@@ -1,18 +1,22 @@
 // Every built-in factor: Jacobians (autodiff, mapped to the tangent space by
 // ⊞'s Jacobian) against central differences through ⊞, at random points; plus
 // a few exact values (board = stacked points, a DH link, gravity, disparity).
+#include <functional>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/board.h"
-#include "boxplus/factors/disparity.h"
-#include "boxplus/factors/gravity.h"
-#include "boxplus/factors/marker.h"
-#include "boxplus/factors/pinhole.h"
+#include "boxplus/factors/camera/board.h"
+#include "boxplus/factors/camera/point_projection.h"
+#include "boxplus/factors/depth/disparity.h"
+#include "boxplus/factors/imu/gravity.h"
+#include "boxplus/factors/kinematics/dh.h"
+#include "boxplus/factors/kinematics/marker.h"
 #include "boxplus/factors/point.h"
 #include "boxplus/factors/relative_pose.h"
 #include "boxplus/factors/relative_pose2d.h"
@@ -107,24 +111,27 @@ Eigen::VectorXd Intrinsics(const std::string& model) {
   return k;
 }
 
-Eigen::Matrix2d W2() {
+// A full (non-diagonal) 2×2 square-root information, so that whitening mixes
+// the two pixel coordinates.
+NoiseModel W2() {
   Eigen::Matrix2d W;
   W << 2.0, 0.3, 0.0, 1.5;
-  return W;
+  return NoiseModel::SqrtInformation(W);
 }
 
 TEST(BoardFactor, JacobiansAndEqualsStackedPoints) {
   std::mt19937 rng(1);
   for (const std::string model : {"simple_radial", "pinhole", "radial1", "radial2", "opencv5"}) {
-    PinholeBoardFunctor<camera::Pinhole>::Points3 p(4, 3);
+    BoardPoints p(4, 3);
     p << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0.1;
-    PinholeBoardFunctor<camera::Pinhole>::Points2 z(4, 2);
+    BoardPixels z(4, 2);
     z << 300, 200, 350, 210, 310, 260, 360, 250;
-    Pose x2world = RandomPose(rng);
-    x2world.head<3>() << 0.5, 0.5, -5;  // the camera 5 units in front of the board
-    const Pose x2cam = RandomPose(rng, 0.1);
+    Pose world_from_rig = RandomPose(rng);
+    world_from_rig.head<3>() << 0.5, 0.5, -5;  // the camera 5 units in front of the board
+    const Pose cam_from_rig = RandomPose(rng, 0.1);
     auto board = MakePinholeBoardFactor(model, z, W2(), p);
-    std::vector<Block> blocks = {{Intrinsics(model), false}, {x2world, true}, {x2cam, true}};
+    std::vector<Block> blocks = {
+        {Intrinsics(model), false}, {world_from_rig, true}, {cam_from_rig, true}};
     ExpectJacobiansMatch(*board, blocks);
     const Eigen::VectorXd r = Eval(*board, blocks);
     for (int j = 0; j < 4; ++j) {
@@ -137,9 +144,9 @@ TEST(BoardFactor, JacobiansAndEqualsStackedPoints) {
 
 TEST(MarkerFactor, KnownKinematicsJacobians) {
   std::mt19937 rng(2);
-  Pose hand2base = RandomPose(rng);
-  hand2base.head<3>() << 0.1, 0.2, 1.5;
-  auto f = MakeKnownKinematicsMarkerFactor("radial2", {300, 200}, W2(), hand2base);
+  Pose base_from_hand = RandomPose(rng);
+  base_from_hand.head<3>() << 0.1, 0.2, 1.5;
+  auto f = MakeKnownKinematicsMarkerFactor("radial2", {300, 200}, W2(), base_from_hand);
   ExpectJacobiansMatch(*f, {{Intrinsics("radial2"), false},
                             {RandomPose(rng), true},
                             {Eigen::Vector3d(0.05, -0.02, 0.1), false},
@@ -172,7 +179,7 @@ TEST(MarkerFactor, DHJacobiansAndOneLink) {
 
 TEST(GravityFactor, JacobiansAndLevelledValue) {
   std::mt19937 rng(4);
-  const Eigen::Matrix3d W = 3.0 * Eigen::Matrix3d::Identity();
+  const NoiseModel W = NoiseModel::Isotropic(3, 1.0 / 3.0);
   for (const std::string model : {"rotation", "scale", "scale_bias"}) {
     auto f = MakeGravityFactor(model, {0.1, -0.2, 9.7}, W, {0, 0, -9.81});
     std::vector<Block> blocks = {{RandomPose(rng), true}, {RandomPose(rng), true}};
@@ -278,19 +285,118 @@ TEST(PointFactor, Jacobians) {
 
 TEST(DisparityFactor, JacobiansAndValue) {
   std::mt19937 rng(7);
-  Pose x2world = RandomPose(rng);
-  x2world.head<3>() << 0.2, 0.1, -2.0;
+  Pose world_from_rig = RandomPose(rng);
+  world_from_rig.head<3>() << 0.2, 0.1, -2.0;
   Eigen::VectorXd ab(2);
   ab << 580.0, 1090.0;
-  ExpectJacobiansMatch(*MakeDisparityFactor(800.0, 0.5, {0.3, 0.4, 0.0}),
-                       {{x2world, true}, {RandomPose(rng, 0.05), true}, {ab, false}});
+  ExpectJacobiansMatch(*MakeDisparityFactor(800.0, NoiseModel::Isotropic(1, 0.5), {0.3, 0.4, 0.0}),
+                       {{world_from_rig, true}, {RandomPose(rng, 0.05), true}, {ab, false}});
   Pose id = Pose::Zero();
   id[6] = 1;
-  Pose cam2board = id;
-  cam2board[2] = -2.0;  // board point (0,0,0) at depth 2
-  auto f = MakeDisparityFactor(580.0 / 2 + 1090.0, 1.0, {0, 0, 0});
-  EXPECT_NEAR(Eval(*f, {{cam2board, true}, {id, true}, {ab, false}})[0], 0.0, 1e-9);
-  EXPECT_THROW(MakeDisparityFactor(1.0, 0.0, {0, 0, 0}), Error);
+  Pose board_from_cam = id;
+  board_from_cam[2] = -2.0;  // board point (0,0,0) at depth 2
+  auto f = MakeDisparityFactor(580.0 / 2 + 1090.0, NoiseModel::Unit(1), {0, 0, 0});
+  EXPECT_NEAR(Eval(*f, {{board_from_cam, true}, {id, true}, {ab, false}})[0], 0.0, 1e-9);
+  // σ = 0.5 doubles the residual of a disparity 1 unit off.
+  auto off = MakeDisparityFactor(580.0 / 2 + 1089.0, NoiseModel::Isotropic(1, 0.5), {0, 0, 0});
+  EXPECT_NEAR(Eval(*off, {{board_from_cam, true}, {id, true}, {ab, false}})[0], 2.0, 1e-9);
+  EXPECT_THROW(MakeDisparityFactor(1.0, NoiseModel::Unit(2), {0, 0, 0}), Error);
+  EXPECT_THROW(MakeDisparityFactor(1.0, NoiseModel::Isotropic(1, 0.0), {0, 0, 0}), Error);
+}
+
+// Every sensor factor whitens with its NoiseModel: the four ways of giving the
+// same Σ (σᵢ for a diagonal Σ, Σ, Ω = Σ⁻¹, W = L⁻¹) give the same ‖r‖², and that
+// equals eᵀ Σ⁻¹ e with e the error of the factor under unit noise (block by
+// block for a board).
+TEST(SensorFactors, NoiseInAllFormsGivesTheSameCost) {
+  std::mt19937 rng(8);
+  using Make = std::function<std::shared_ptr<ceres::CostFunction>(const NoiseModel&)>;
+  struct Case {
+    std::string name;
+    int dim;
+    Make make;
+    std::vector<Block> blocks;
+  };
+  Pose world_from_rig = RandomPose(rng);
+  world_from_rig.head<3>() << 0.5, 0.5, -5;
+  const Pose cam_from_rig = RandomPose(rng, 0.1);
+  BoardPoints p(3, 3);
+  p << 0, 0, 0, 1, 0, 0, 0, 1, 0.1;
+  BoardPixels z(3, 2);
+  z << 300, 200, 350, 210, 310, 260;
+  Eigen::VectorXd q(2), dh(8), accel(4), ab(2);
+  q << 0.3, -0.5;
+  dh << 0.01, 0.2, 0.3, 0.5, -0.02, 0.0, 0.4, -0.3;
+  accel << 1.02, 0.05, -0.03, 0.1;
+  ab << 580.0, 1090.0;
+  Pose identity = Pose::Zero();
+  identity[6] = 1;
+  Pose base_from_chain = identity;
+  base_from_chain[2] = 2.0;
+  const Eigen::Vector3d p_in_hand(0.05, -0.02, 0.1);
+  const std::vector<Block> camera = {
+      {Intrinsics("opencv5"), false}, {world_from_rig, true}, {cam_from_rig, true}};
+  const std::vector<Block> marker = {{Intrinsics("opencv5"), false},
+                                     {RandomPose(rng, 0.05), true},
+                                     {p_in_hand, false},
+                                     {RandomPose(rng, 0.05), true}};
+  std::vector<Block> dh_marker = marker;
+  dh_marker.push_back({dh, false});
+  const std::vector<Case> cases = {
+      {"point", 2,
+       [&](const NoiseModel& n) {
+         return MakePinholePointFactor("opencv5", z.row(0).transpose(), n, p.row(0).transpose());
+       },
+       camera},
+      {"board", 2, [&](const NoiseModel& n) { return MakePinholeBoardFactor("opencv5", z, n, p); },
+       camera},
+      {"marker", 2,
+       [&](const NoiseModel& n) {
+         return MakeKnownKinematicsMarkerFactor("opencv5", {300, 200}, n, base_from_chain);
+       },
+       marker},
+      {"dh_marker", 2,
+       [&](const NoiseModel& n) {
+         return MakeDHMarkerFactor("opencv5", {300, 200}, n, q, base_from_chain, identity);
+       },
+       dh_marker},
+      {"gravity", 3,
+       [&](const NoiseModel& n) { return MakeGravityFactor("scale_bias", {0.1, -0.2, 9.7}, n,
+                                                           {0, 0, -9.81}); },
+       {{RandomPose(rng), true}, {RandomPose(rng), true}, {accel, false}}},
+      {"disparity", 1,
+       [&](const NoiseModel& n) { return MakeDisparityFactor(800.0, n, {0.3, 0.4, 0.0}); },
+       {{world_from_rig, true}, {cam_from_rig, true}, {ab, false}}},
+  };
+  std::normal_distribution<double> g;
+  for (const Case& c : cases) {
+    // A random SPD Σ and a diagonal one.
+    Eigen::MatrixXd A(c.dim, c.dim);
+    for (int i = 0; i < A.size(); ++i) A.data()[i] = g(rng);
+    const Eigen::MatrixXd S = A * A.transpose() + 0.5 * Eigen::MatrixXd::Identity(c.dim, c.dim);
+    Eigen::VectorXd sig(c.dim);
+    for (int i = 0; i < c.dim; ++i) sig[i] = 0.5 + i;
+    const Eigen::MatrixXd D = sig.array().square().matrix().asDiagonal();
+    const Eigen::MatrixXd L = S.llt().matrixL();
+    const Eigen::VectorXd e = Eval(*c.make(NoiseModel::Unit(c.dim)), c.blocks);
+    double full = 0, diag = 0;
+    for (Eigen::Index k = 0; k < e.size(); k += c.dim) {
+      const Eigen::VectorXd ek = e.segment(k, c.dim);
+      full += ek.dot(S.ldlt().solve(ek));
+      diag += ek.dot(D.ldlt().solve(ek));
+    }
+    const auto cost = [&](const NoiseModel& n) { return Eval(*c.make(n), c.blocks).squaredNorm(); };
+    EXPECT_NEAR(cost(NoiseModel::Covariance(S)), full, 1e-9 * full) << c.name;
+    EXPECT_NEAR(cost(NoiseModel::Information(S.inverse())), full, 1e-9 * full) << c.name;
+    EXPECT_NEAR(cost(NoiseModel::SqrtInformation(L.inverse())), full, 1e-9 * full) << c.name;
+    EXPECT_NEAR(cost(NoiseModel::Sigmas(sig)), diag, 1e-9 * diag) << c.name;
+    EXPECT_NEAR(cost(NoiseModel::Covariance(D)), diag, 1e-9 * diag) << c.name;
+    EXPECT_NEAR(cost(NoiseModel::Information(D.inverse())), diag, 1e-9 * diag) << c.name;
+    // Jacobians are whitened too.
+    ExpectJacobiansMatch(*c.make(NoiseModel::Covariance(S)), c.blocks);
+    // A noise of the wrong dimension is refused when the factor is built.
+    EXPECT_THROW(c.make(NoiseModel::Unit(c.dim + 1)), Error) << c.name;
+  }
 }
 
 }  // namespace

@@ -24,36 +24,36 @@ def homogeneous(R, t):
 
 def test_point_residual_matches_numpy_and_registration_recovers_the_pose():
     rng = np.random.default_rng(0)
-    x2world = bp.SE3(bp.SO3.exp([0.3, -0.5, 1.2]), [1.0, -2.0, 0.5])
-    x2cam = bp.SE3(bp.SO3.exp([0.0, 0.2, 0.0]), [0.1, 0.0, 0.0])
+    world_from_rig = bp.SE3(bp.SO3.exp([0.3, -0.5, 1.2]), [1.0, -2.0, 0.5])
+    cam_from_rig = bp.SE3(bp.SO3.exp([0.0, 0.2, 0.0]), [0.1, 0.0, 0.0])
     P = rng.uniform(-2, 2, (12, 3))
-    # p_in_cam = x2cam ∘ x2world⁻¹ p, in matrix form and with the value methods
-    Z = (x2cam.transform() @ np.linalg.inv(x2world.transform()) @ np.c_[P, np.ones(12)].T).T[:, :3]
-    Z_ref = x2cam.fromlocal(x2world.tolocal(P))
+    # p_in_cam = cam_from_rig ∘ world_from_rig⁻¹ p, in matrix form and with the value methods
+    Z = (cam_from_rig.transform() @ np.linalg.inv(world_from_rig.transform()) @ np.c_[P, np.ones(12)].T).T[:, :3]
+    Z_ref = cam_from_rig.fromlocal(world_from_rig.tolocal(P))
     assert np.allclose(Z, Z_ref)
     o = bp.OptimizationProblem()
     xw = o.add_random_var(bp.SE3())  # unknown sensor pose, from the identity
-    xc = o.add_random_var(x2cam, fixed=True)
+    xc = o.add_random_var(cam_from_rig, fixed=True)
     sigma = np.array([0.01, 0.02, 0.03])
     mids = [o.add_point(z + [0.5, 0, 0], xw, xc, p, sigma=sigma) for z, p in zip(Z_ref, P)]
     W = np.diag(1 / sigma)
     x0 = bp.SE3()
-    assert np.allclose(o.residual(mids[3]), W @ (x2cam.fromlocal(x0.tolocal(P[3])) - Z_ref[3] - [0.5, 0, 0]))
+    assert np.allclose(o.residual(mids[3]), W @ (cam_from_rig.fromlocal(x0.tolocal(P[3])) - Z_ref[3] - [0.5, 0, 0]))
     r = o.solve(function_tolerance=1e-14, parameter_tolerance=1e-14)
     assert r.usable
     # Measurements offset by a constant in the sensor frame: the pose absorbs it exactly.
     est = o[xw]
-    assert np.allclose(x2cam.fromlocal(est.tolocal(P)), Z_ref + [0.5, 0, 0], atol=1e-8)
+    assert np.allclose(cam_from_rig.fromlocal(est.tolocal(P)), Z_ref + [0.5, 0, 0], atol=1e-8)
 
 
 def test_point_with_unknown_landmark():
-    x2world = bp.SE3(bp.SO3.exp([0.1, 0.2, 0.3]), [0.0, 1.0, 2.0])
+    world_from_rig = bp.SE3(bp.SO3.exp([0.1, 0.2, 0.3]), [0.0, 1.0, 2.0])
     o = bp.OptimizationProblem()
-    xw = o.add_random_var(x2world, fixed=True)
+    xw = o.add_random_var(world_from_rig, fixed=True)
     xc = o.add_random_var(bp.SE3(), fixed=True)
     landmark = o.add_random_var(bp.Rn([0.0, 0.0, 0.0]))
     truth = np.array([1.5, -0.5, 3.0])
-    o.add_point(x2world.tolocal(truth), xw, xc, landmark, sigma=0.01)
+    o.add_point(world_from_rig.tolocal(truth), xw, xc, landmark, sigma=0.01)
     o.solve()
     assert np.allclose(o[landmark].vec, truth, atol=1e-9)
 
@@ -66,13 +66,13 @@ def test_disparity_residual_matches_the_model_and_a_b_are_recovered():
     xc = o.add_random_var(bp.SE3(bp.SO3.exp([0.0, 0.01, 0.0]), [-0.025, 0.0, 0.0]), fixed=True)
     mids, expected = [], []
     for k in range(5):
-        x2world = bp.SE3(bp.SO3.exp(rng.normal(0, 0.1, 3)), [0.0, 0.0, -1.0 - 0.5 * k])
-        xw = o.add_random_var(x2world, fixed=True)
+        world_from_rig = bp.SE3(bp.SO3.exp(rng.normal(0, 0.1, 3)), [0.0, 0.0, -1.0 - 0.5 * k])
+        xw = o.add_random_var(world_from_rig, fixed=True)
         for p in rng.uniform(-0.3, 0.3, (6, 2)):
-            p_world = np.r_[p, 0.0]
-            Zdepth = o[xc].fromlocal(x2world.tolocal(p_world))[2]
+            p_in_world = np.r_[p, 0.0]
+            Zdepth = o[xc].fromlocal(world_from_rig.tolocal(p_in_world))[2]
             d = a / Zdepth + b
-            mids.append(o.add_disparity(d, xw, xc, ab, p_world, sigma=0.5))
+            mids.append(o.add_disparity(d, xw, xc, ab, p_in_world, sigma=0.5))
             expected.append((300.0 / Zdepth + 100.0 - d) / 0.5)
     assert np.allclose([o.residual(m)[0] for m in mids], expected)
     o.solve(function_tolerance=1e-15)
@@ -102,32 +102,32 @@ def pinhole_opencv(k, p):
 def arm():
     dh = np.array([[0.1, 0.3, 0.0, np.pi / 2], [-0.05, 0.0, 0.4, 0.0], [0.02, 0.0, 0.35, 0.0]]).ravel()
     k = np.array([500.0, 505.0, 320.0, 240.0, -0.1, 0.02, 0.001, -0.002, 0.0])
-    x2base = bp.SE3(bp.SO3.exp([np.pi - 0.3, 0.0, 0.1]), [0.2, 0.0, 1.2])  # camera on the head
+    base_from_rig = bp.SE3(bp.SO3.exp([np.pi - 0.3, 0.0, 0.1]), [0.2, 0.0, 1.2])  # camera on the head
     p_hand = np.array([0.02, 0.03, 0.05])
-    return dh, k, x2base, p_hand
+    return dh, k, base_from_rig, p_hand
 
 
 def test_dh_marker_residual_matches_numpy_forward_kinematics(arm):
-    dh, k, x2base, p_hand = arm
+    dh, k, base_from_rig, p_hand = arm
     o = bp.OptimizationProblem()
     ki = o.add_random_var(bp.Rn(k), fixed=True)
-    xb = o.add_random_var(x2base, fixed=True)
+    xb = o.add_random_var(base_from_rig, fixed=True)
     ph = o.add_random_var(bp.Rn(p_hand))
     xc = o.add_random_var(bp.SE3(), fixed=True)
     dhi = o.add_random_var(bp.Rn(dh))
     q = np.array([0.3, -0.7, 1.1])
     p_base = (dh_chain(dh, q) @ np.r_[p_hand, 1])[:3]
-    uv = pinhole_opencv(k, x2base.tolocal(p_base))
+    uv = pinhole_opencv(k, base_from_rig.tolocal(p_base))
     mid = o.add_dh_marker(uv + [1.0, -2.0], ki, xb, ph, xc, dhi, q, sigma=0.5)
     assert np.allclose(o.residual(mid), [-2.0, 4.0], atol=1e-9)
 
 
 def test_dh_parameters_are_recovered_from_many_arm_poses(arm):
-    dh, k, x2base, p_hand = arm
+    dh, k, base_from_rig, p_hand = arm
     rng = np.random.default_rng(2)
     o = bp.OptimizationProblem()
     ki = o.add_random_var(bp.Rn(k), fixed=True)
-    xb = o.add_random_var(x2base, fixed=True)
+    xb = o.add_random_var(base_from_rig, fixed=True)
     ph = o.add_random_var(bp.Rn(p_hand), fixed=True)
     xc = o.add_random_var(bp.SE3(), fixed=True)
     dh0 = dh + np.tile([0.02, 0.0, -0.01, 0.0], 3)  # perturbed joint offsets and link lengths
@@ -138,13 +138,51 @@ def test_dh_parameters_are_recovered_from_many_arm_poses(arm):
     n_used = 0
     for _ in range(60):
         q = rng.uniform(-0.8, 0.8, 3)
-        p_cam = x2base.tolocal((dh_chain(dh, q) @ np.r_[p_hand, 1])[:3])
-        if p_cam[2] < 0.2:
+        p_in_cam = base_from_rig.tolocal((dh_chain(dh, q) @ np.r_[p_hand, 1])[:3])
+        if p_in_cam[2] < 0.2:
             continue
-        o.add_dh_marker(pinhole_opencv(k, p_cam), ki, xb, ph, xc, dhi, q, sigma=0.3)
+        o.add_dh_marker(pinhole_opencv(k, p_in_cam), ki, xb, ph, xc, dhi, q, sigma=0.3)
         n_used += 1
     assert n_used > 20
     r = o.solve(function_tolerance=1e-15, parameter_tolerance=1e-15, max_iterations=200)
     assert r.usable
     # Noise-free readings: joint offsets and link lengths come back exactly.
     assert np.allclose(o[dhi].vec, dh, atol=1e-7)
+
+
+def test_noise_keywords_give_one_model_and_errors_are_in_pixels():
+    """sigma, covariance, information and noise describe the same Σ; the problem keeps
+    the factor's NoiseModel, so errors()/rms() of C++ factors (projection included,
+    issue 10) are in pixels, not whitened."""
+    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+
+    rng = np.random.default_rng(4)
+    p = board_points()
+    T = random_views(1, rng, p.mean(axis=0))[0]
+    z, _ = observe(TRUE_K, T, p, 0.0, rng, image_size=None)
+    z = z + [1.0, -2.0]  # every corner 1 px right of and 2 px above the prediction: e = [-1, 2]
+    S = np.array([[0.25, 0.1], [0.1, 0.5]])
+    forms = [dict(covariance=S), dict(information=np.linalg.inv(S)),
+             dict(noise=bp.NoiseModel.covariance(S, "board"))]
+    o = bp.OptimizationProblem()
+    k = o.add_random_var(bp.Rn(TRUE_K), fixed=True)
+    pose = o.add_random_var(T, fixed=True)
+    ident = o.add_random_var(bp.SE3(), fixed=True)
+    boards = [o.add_board(z, k, pose, ident, p, **f) for f in forms]
+    # Any W with WᵀW = Σ⁻¹ whitens: the residuals differ, their norms per corner do not.
+    for m in boards[1:]:
+        assert np.allclose(np.linalg.norm(o.residual(m).reshape(-1, 2), axis=1),
+                           np.linalg.norm(o.residual(boards[0]).reshape(-1, 2), axis=1))
+    L = np.linalg.cholesky(S)
+    assert np.allclose(o.residual(boards[0]).reshape(-1, 2), np.linalg.solve(L, np.tile([-1.0, 2.0], (len(p), 1)).T).T)
+    for m in boards:
+        assert np.allclose(o.measurement_errors(m), [-1.0, 2.0])
+    mid = o.add_projection(z[0], k, pose, ident, p[0], sigma=[0.5, 0.25], model="opencv5")
+    assert np.allclose(o.residual(mid), [-2.0, 8.0])
+    rms = o.rms()
+    assert np.isclose(rms["projection[opencv5]"], np.sqrt(5.0))
+    assert np.isclose(rms["board[opencv5]"], np.sqrt(5.0))
+    with pytest.raises(ValueError, match="give one of sigma, covariance"):
+        o.add_board(z, k, pose, ident, p, sigma=0.5, covariance=S)
+    with pytest.raises(ValueError, match="noise of dimension 3"):
+        o.add_disparity(1.0, pose, ident, k, p[0], noise=bp.NoiseModel.unit(3))

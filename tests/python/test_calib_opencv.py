@@ -64,10 +64,10 @@ def test_stereo_matches_opencv(fixed):
     cal = calibrate_stereo(L, R, obj, size, "opencv5", fixed_intrinsics=fixed_k if fixed else None)
     assert abs(cal.rms() - rms_cv) < 0.005
     rep = cal.report()
-    l2r = cal.problem[cal.ids["left2right"]]
-    s = rep.std("left2right")
-    assert np.all(np.abs(l2r.pos - tcv.ravel()) < s[:3])
-    dtheta = (cal.problem[cal.ids["left2right"]].rot.inverse() * __import__("boxplus").SO3(Rcv)).log()
+    right_from_left = cal.problem[cal.ids["right_from_left"]]
+    s = rep.std("right_from_left")
+    assert np.all(np.abs(right_from_left.pos - tcv.ravel()) < s[:3])
+    dtheta = (cal.problem[cal.ids["right_from_left"]].rot.inverse() * __import__("boxplus").SO3(Rcv)).log()
     assert np.all(np.abs(dtheta) < s[3:])
     if not fixed:
         for name, K, d in [("left", Kl2, dl2), ("right", Kr2, dr2)]:

@@ -44,7 +44,7 @@ def test_camera_imu_within_3_sigma(noise):
     rep = report(o)
     assert not rep.undetermined
     _within(o[ids["camera"]].vec, ex.TRUTH["k"], rep.std("camera"), what="intrinsics")
-    _pose_within(o, rep, ids["cam2imu"], ex.TRUTH["cam2imu"], "cam2imu")
+    _pose_within(o, rep, ids["imu_from_cam"], ex.TRUTH["imu_from_cam"], "imu_from_cam")
     _within(o[ids["accel"]].vec, ex.TRUTH["accel"], rep.std("accel"), what="accel")
     assert abs(rep.rms["camera"] / (np.sqrt(2) * noise) - 1) < 0.15
 
@@ -55,9 +55,9 @@ def test_imu_yaw_from_one_gravity_reading_is_named_undetermined():
     o, ids, _ = ex.calibrate(data, gravity_views=[0], estimate_accel=False)
     rep = report(o)
     named = {n for _, names in rep.undetermined for n in names}
-    assert any(n.startswith("cam2imu.θ") for n in named), rep.warnings
+    assert any(n.startswith("imu_from_cam.θ") for n in named), rep.warnings
     assert any("NOT DETERMINED" in w for w in rep.warnings)
-    assert np.isinf(rep.std("cam2imu")[3:]).any()
+    assert np.isinf(rep.std("imu_from_cam")[3:]).any()
 
 
 def test_hand_eye_ml_beats_every_opencv_closed_form():
@@ -77,8 +77,8 @@ def test_hand_eye_within_3_sigma(noise):
     o, ids, X = ex.calibrate(ex.simulate(np.random.default_rng(5), pixel_sigma=noise))
     rep = report(o)
     assert not rep.undetermined
-    _pose_within(o, rep, ids["gripper2cam"], ex.TRUTH["cam2gripper"].inverse(), "gripper2cam")
-    _pose_within(o, rep, ids["base2board"], ex.TRUTH["board2base"].inverse(), "base2board")
+    _pose_within(o, rep, ids["cam_from_gripper"], ex.TRUTH["gripper_from_cam"].inverse(), "cam_from_gripper")
+    _pose_within(o, rep, ids["board_from_base"], ex.TRUTH["base_from_board"].inverse(), "board_from_base")
 
 
 def test_figures_are_written(tmp_path):
@@ -88,10 +88,10 @@ def test_figures_are_written(tmp_path):
     data = ex.simulate(np.random.default_rng(2), n_views=4)
     o, ids, _ = ex.calibrate(data)
     plot_reprojection_errors(o, str(tmp_path / "errors.png"))
-    frames = {"imu": o[ids["cam2imu"]].inverse()}
+    frames = {"imu": o[ids["imu_from_cam"]].inverse()}
     frames.update({f"cam{i}": o[v] for i, v in enumerate(range(o.num_variables))
-                   if o.variable_name(v).startswith("cam2world")})
-    plot_rig(str(tmp_path / "rig.png"), frames, [(bp.SE3(), data["p_world"])],
+                   if o.variable_name(v).startswith("world_from_cam")})
+    plot_rig(str(tmp_path / "rig.png"), frames, [(bp.SE3(), data["p_in_world"])],
              {"marker": np.zeros((1, 3))}, length=0.05)
     for f in ("errors.png", "rig.png"):
         assert (tmp_path / f).read_bytes()[:4] == b"\x89PNG"
@@ -135,7 +135,7 @@ def test_humanoid_head_dh_without_prior_names_the_redundant_last_link():
     named = {n for _, names in rep.undetermined for n in names}
     # the last link's [θ6, d6, a6, α6] and the marker on the hand are one point: redundant
     assert {"dh_l.d6", "dh_r.d6"} <= named and any(n.startswith("p_hand_l") for n in named)
-    assert not any(n.startswith(("left.", "right.", "left2head")) for n in named)
+    assert not any(n.startswith(("left.", "right.", "head_from_left")) for n in named)
 
 
 def test_triangulate_and_marker_hand_eye_are_exact_without_noise():
@@ -143,18 +143,18 @@ def test_triangulate_and_marker_hand_eye_are_exact_without_noise():
     from boxplus.calib.synthetic import TRUE_K, project
 
     rng = np.random.default_rng(0)
-    a2b = bp.SE3(bp.SO3.exp(np.array([0.01, -0.02, 0.03])), [-0.1, 0.002, 0.001])
+    b_from_a = bp.SE3(bp.SO3.exp(np.array([0.01, -0.02, 0.03])), [-0.1, 0.002, 0.001])
     P = rng.uniform([-0.2, -0.2, 0.4], [0.2, 0.2, 0.9], (20, 3))
-    z_a, z_b = project(TRUE_K, P), project(TRUE_K, a2b.fromlocal(P))
-    np.testing.assert_allclose(triangulate(z_a, z_b, TRUE_K, TRUE_K, a2b), P, atol=1e-9)
+    z_a, z_b = project(TRUE_K, P), project(TRUE_K, b_from_a.fromlocal(P))
+    np.testing.assert_allclose(triangulate(z_a, z_b, TRUE_K, TRUE_K, b_from_a), P, atol=1e-9)
 
-    x2base = bp.SE3(bp.SO3.exp(np.array([1.0, -0.5, 0.3])), [0.1, 0.05, 0.2])
+    base_from_rig = bp.SE3(bp.SO3.exp(np.array([1.0, -0.5, 0.3])), [0.1, 0.05, 0.2])
     p_hand = [np.array([0.02, 0.05, 0.1]), np.array([-0.03, 0.01, 0.07])]
     poses = [[bp.SE3(bp.SO3.exp(rng.normal(0, 1, 3)), rng.normal(0, 0.3, 3)) for _ in range(8)]
              for _ in p_hand]
-    p_in_x = [x2base.tolocal(np.array([H.fromlocal(p) for H in hs])) for p, hs in zip(p_hand, poses)]
-    X, (p0, p1) = marker_hand_eye(p_in_x, poses)
-    np.testing.assert_allclose(X.matrix(), x2base.matrix(), atol=1e-9)
+    p_in_rig = [base_from_rig.tolocal(np.array([H.fromlocal(p) for H in hs])) for p, hs in zip(p_hand, poses)]
+    X, (p0, p1) = marker_hand_eye(p_in_rig, poses)
+    np.testing.assert_allclose(X.matrix(), base_from_rig.matrix(), atol=1e-9)
     np.testing.assert_allclose(p0, p_hand[0], atol=1e-9)
     np.testing.assert_allclose(p1, p_hand[1], atol=1e-9)
 
@@ -212,3 +212,25 @@ def test_vertical_stereo_sigma_is_calibrated():
         o, ids, _ = ex.calibrate(ex.simulate(np.random.default_rng(100 + seed), pixel_sigma=0.5))
         Z.append(np.concatenate(list(ex.errors_in_sigma(o, report(o), ids).values())))
     assert 0.8 < np.sqrt(np.mean(np.square(Z))) < 1.2
+
+
+def test_calibrate_mono_refuses_views_of_one_orientation():
+    """Issue 17 item 14: four identical views gave fx = 1262 ± 157 (truth 520) without
+    a word. Views of the board in one orientation do not determine the intrinsics:
+    calibrate_mono names them and refuses."""
+    from boxplus.calib import calibrate_mono
+    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+
+    rng = np.random.default_rng(3)
+    p = board_points()
+    centre = p.mean(axis=0)
+    views = random_views(2, rng, centre)
+    z, vis = observe(TRUE_K, views[0], p, 0.3, rng, image_size=None)
+    with pytest.raises(ValueError, match=r"camera: the board has the same orientation .* \(0, 1, 2, 3\)"):
+        calibrate_mono([z] * 4, p, (640, 480))
+    # A second orientation among repeated views is enough (zero skew): fx within 3σ.
+    Z2 = [z, z, observe(TRUE_K, views[1], p, 0.3, rng, image_size=None)[0]]
+    cal = calibrate_mono(Z2, p, (640, 480))
+    k = cal.problem[cal.ids["camera"]].vec
+    std = cal.report().std("camera")
+    _within(k, TRUE_K, std, what="intrinsics")

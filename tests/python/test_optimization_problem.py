@@ -135,15 +135,15 @@ def test_python_measurement_matches_cpp_prior_including_covariance():
     assert np.allclose(a.covariance(xa), b.covariance(xb), rtol=1e-5, atol=1e-12)
 
 
-def project_points(intrinsic, cam2world, p_world):
-    x = cam2world.tolocal(p_world)
+def project_points(intrinsic, world_from_cam, p_in_world):
+    x = world_from_cam.tolocal(p_in_world)
     uv = x[..., :2] / x[..., 2:3]
     r2 = np.sum(uv**2, axis=-1, keepdims=True)
     return intrinsic.focal_length.vec * uv * (1 + intrinsic.distortion.vec * r2) + intrinsic.offset.vec
 
 
-def project_point(intrinsic, cam2world, p_world):
-    return project_points(intrinsic, cam2world, p_world)
+def project_point(intrinsic, world_from_cam, p_in_world):
+    return project_points(intrinsic, world_from_cam, p_in_world)
 
 
 def _calibration(form, n_images=5):

@@ -8,9 +8,12 @@
   parameters the data cannot determine;
 * :mod:`~boxplus.calib.plot` — reprojection errors and the rig in 3-D (PNG).
 
-The factors themselves are methods of :class:`boxplus.OptimizationProblem`
-(``add_board``, ``add_marker``, ``add_dh_marker``, ``add_gravity``,
-``add_relative_pose``, ``add_point``, ``add_disparity``).
+* :mod:`~boxplus.calib.factors` — the C++ sensor factors as methods of
+  :class:`boxplus.OptimizationProblem` (``add_projection``, ``add_board``,
+  ``add_marker``, ``add_dh_marker``, ``add_gravity``, ``add_relative_pose``,
+  ``add_point``, ``add_disparity``), mixed in by :class:`CalibrationFactors`.
+
+Frames are named ``b_from_a`` (maps a-coordinates to b), points ``p_in_b``.
 """
 
 from boxplus.calib.zhang import (

@@ -13,7 +13,7 @@
   triangulated marker positions and forward kinematics (linear, then
   projected onto SO(3)).
 
-Frames: ``a2b`` maps points of frame a into frame b (p_in_b = R p_in_a + t).
+Frames: ``b_from_a`` maps points of frame a into frame b (p_in_b = R p_in_a + t).
 Poses are boxplus SE3 values, tangent order [translation, rotation].
 """
 
@@ -80,7 +80,7 @@ def check_views(
 
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
                dist: Sequence[float] = (0, 0, 0, 0, 0)) -> SE3:
-    """board2cam of a planar board (z = 0) seen by a calibrated camera (PnP by the
+    """cam_from_board of a planar board (z = 0) seen by a calibrated camera (PnP by the
     homography of undistorted normalised points, Zhang eq. 12)."""
     obj = np.asarray(object_points, float)
     u = undistort((np.asarray(image_points, float) - K[:2, 2]) / np.diag(K)[:2], np.asarray(dist, float))
@@ -95,12 +95,12 @@ def mean_pose(poses: Sequence[SE3]) -> SE3:
     return SE3(SO3(R), np.mean([p.pos for p in poses], axis=0))
 
 
-def relative_pose_init(board2a: Sequence[SE3], board2b: Sequence[SE3]) -> SE3:
-    """a2b from views of the same boards by sensors a and b (stereo): the mean of
-    board2b_i ∘ board2a_i⁻¹."""
-    if len(board2a) != len(board2b) or not board2a:
+def relative_pose_init(a_from_board: Sequence[SE3], b_from_board: Sequence[SE3]) -> SE3:
+    """b_from_a from views of the same boards by sensors a and b (stereo): the mean of
+    b_from_board_i ∘ a_from_board_i⁻¹."""
+    if len(a_from_board) != len(b_from_board) or not a_from_board:
         raise ValueError("relative_pose_init: need the same (≥ 1) number of views from both sensors")
-    return mean_pose([b * a.inverse() for a, b in zip(board2a, board2b)])
+    return mean_pose([b * a.inverse() for a, b in zip(a_from_board, b_from_board)])
 
 
 def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -114,20 +114,20 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
         raise ValueError(f"{e} (e.g. an IMU's yaw from gravity with one board orientation)") from None
 
 
-def hand_eye_park(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> SE3:
-    """cam2gripper X from A X = X B (Park & Martin 1994), eye-in-hand.
+def hand_eye_park(base_from_gripper: Sequence[SE3], cam_from_target: Sequence[SE3]) -> SE3:
+    """gripper_from_cam X from A X = X B (Park & Martin 1994), eye-in-hand.
 
-    With G_i = gripper2base_i, T_i = target2cam_i and a fixed target:
+    With G_i = base_from_gripper_i, T_i = cam_from_target_i and a fixed target:
     G_i X T_i = const, so A = G_j⁻¹ G_i and B = T_j T_i⁻¹ for all pairs i < j.
     """
-    n = len(gripper2base)
-    if n < 3 or len(target2cam) != n:
-        raise ValueError(f"hand-eye needs ≥ 3 pose pairs, got {n} and {len(target2cam)}")
+    n = len(base_from_gripper)
+    if n < 3 or len(cam_from_target) != n:
+        raise ValueError(f"hand-eye needs ≥ 3 pose pairs, got {n} and {len(cam_from_target)}")
     As, Bs = [], []
     for i in range(n):
         for j in range(i + 1, n):
-            As.append(gripper2base[j].inverse() * gripper2base[i])
-            Bs.append(target2cam[j] * target2cam[i].inverse())
+            As.append(base_from_gripper[j].inverse() * base_from_gripper[i])
+            Bs.append(cam_from_target[j] * cam_from_target[i].inverse())
     alpha = np.array([A.rot.log() for A in As])
     beta = np.array([B.rot.log() for B in Bs])
     M = beta.T @ alpha  # Σ β αᵀ
@@ -141,47 +141,47 @@ def hand_eye_park(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> SE3
     return SE3(SO3(R), t)
 
 
-def robot_world_hand_eye(gripper2base: Sequence[SE3], target2cam: Sequence[SE3]) -> Tuple[SE3, SE3]:
-    """(cam2gripper X, target2base Z) from G_i X T_i = Z: X by Park–Martin, then
+def robot_world_hand_eye(base_from_gripper: Sequence[SE3], cam_from_target: Sequence[SE3]) -> Tuple[SE3, SE3]:
+    """(gripper_from_cam X, base_from_target Z) from G_i X T_i = Z: X by Park–Martin, then
     Z as the mean of G_i X T_i."""
-    X = hand_eye_park(gripper2base, target2cam)
-    Z = mean_pose([G * X * T for G, T in zip(gripper2base, target2cam)])
+    X = hand_eye_park(base_from_gripper, cam_from_target)
+    Z = mean_pose([G * X * T for G, T in zip(base_from_gripper, cam_from_target)])
     return X, Z
 
 
-def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarray, a2b: SE3,
+def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarray, b_from_a: SE3,
                 model: str = "opencv5") -> np.ndarray:
     """Points (N, 3) in frame a from their pixels (N, 2) in two calibrated cameras
-    a and b (intrinsics vectors of ``model``; ``a2b`` maps points of a into b): the
+    a and b (intrinsics vectors of ``model``; ``b_from_a`` maps points of a into b): the
     midpoint of the closest points of the two undistorted rays."""
     za, zb = np.atleast_2d(np.asarray(z_a, float)), np.atleast_2d(np.asarray(z_b, float))
     if za.shape != zb.shape or za.shape[1] != 2:
         raise ValueError(f"triangulate: z_a and z_b must be the same (N, 2), got {za.shape}, {zb.shape}")
-    R, t = a2b.rot.R, a2b.pos
+    R, t = b_from_a.rot.R, b_from_a.pos
     # camera a at the origin of a; camera b's centre −Rᵀt and rays Rᵀ r_b in a
     return triangulate_midpoint(np.zeros(3), pixel_rays(k_a, za, model), -R.T @ t,
                                 pixel_rays(k_b, zb, model) @ R, "triangulate")
 
 
-def marker_hand_eye(p_in_x: Sequence[np.ndarray], hand2base: Sequence[Sequence[SE3]]
+def marker_hand_eye(p_in_rig: Sequence[np.ndarray], base_from_hand: Sequence[Sequence[SE3]]
                     ) -> Tuple[SE3, List[np.ndarray]]:
-    """(x2base, [p_in_hand per hand]) from markers seen in a sensor frame x.
+    """(base_from_rig, [p_in_hand per hand]) from markers seen in a sensor frame x.
 
     For hand h and arm pose i the marker p_h (fixed on the hand, unknown) is
-    measured at ``p_in_x[h][i]`` (e.g. triangulated by a stereo head) while
-    forward kinematics gives ``hand2base[h][i]`` = (R_hi, t_hi):
+    measured at ``p_in_rig[h][i]`` (e.g. triangulated by a stereo head) while
+    forward kinematics gives ``base_from_hand[h][i]`` = (R_hi, t_hi):
 
-        R_x p_in_x[h][i] + t_x − R_hi p_h = t_hi,
+        R_x p_in_rig[h][i] + t_x − R_hi p_h = t_hi,
 
     linear in (R_x as 9 numbers, t_x, p_h for every hand). It is solved by least
     squares, R_x projected onto SO(3), then t_x and the p_h solved again with R_x
     fixed. Needs the marker positions to span 3-D and the hands to rotate.
     """
-    if len(p_in_x) != len(hand2base) or not p_in_x:
+    if len(p_in_rig) != len(base_from_hand) or not p_in_rig:
         raise ValueError("marker_hand_eye: one list of points and one of poses per hand")
-    nh = len(p_in_x)
+    nh = len(p_in_rig)
     rows, rhs = [], []
-    for h, (P, poses) in enumerate(zip(p_in_x, hand2base)):
+    for h, (P, poses) in enumerate(zip(p_in_rig, base_from_hand)):
         P = np.asarray(P, float).reshape(-1, 3)
         if len(P) != len(poses):
             raise ValueError(f"marker_hand_eye: hand {h}: {len(P)} points for {len(poses)} poses")

@@ -67,8 +67,8 @@ def _axes(ax, pose, length: float, label: str) -> None:
 def plot_rig(path: str, frames: Mapping[str, object], boards: Sequence[Tuple[object, np.ndarray]] = (),
              points: Optional[Dict[str, np.ndarray]] = None, length: float = 1.0,
              title: str = "rig") -> None:
-    """The rig in one reference frame: ``frames`` {name: x2ref (SE3)} drawn as
-    axes (x red, y green, z blue), ``boards`` [(board2ref, p_in_board (N, 3))]
+    """The rig in one reference frame: ``frames`` {name: ref_from_frame (SE3)} drawn as
+    axes (x red, y green, z blue), ``boards`` [(ref_from_board, p_in_board (N, 3))]
     as point grids, ``points`` {name: (N, 3) in ref} (e.g. hand markers)."""
     plt = _plt()
     fig = plt.figure(figsize=(7, 6))

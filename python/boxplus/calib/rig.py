@@ -2,10 +2,10 @@
 mono and stereo calibration built from the C++ board factor, with closed-form
 initial values (:mod:`boxplus.calib.init`).
 
-Frames: ``world`` is the board frame; ``cam2world_i`` is the reference
-camera's pose in the board frame for view i; ``left2right`` takes points of
-the left camera into the right camera. Camera models: see
-``cpp/include/boxplus/factors/pinhole.h`` ("opencv5" is OpenCV's default
+Frames: ``world`` is the board frame; ``world_from_cam_i`` is the reference
+camera's pose in the board frame for view i; ``right_from_left`` takes points
+of the left camera into the right camera. Camera models: see
+``cpp/include/boxplus/factors/camera/models.h`` ("opencv5" is OpenCV's default
 k1 k2 p1 p2 k3; "radial2" k1 k2; "radial1" k1).
 """
 
@@ -16,9 +16,9 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from boxplus.manifolds import SE3, Rn
+from boxplus import problem as _problem
 from boxplus._core import SolveSummary
-from boxplus.problem import OptimizationProblem
+from boxplus.manifolds import SE3, SO3, Rn
 from boxplus.calib.init import (
     CAMERA_LABELS, camera_matrix, check_views, init_camera, intrinsics_vector, relative_pose_init,
 )
@@ -26,7 +26,7 @@ from boxplus.calib.init import (
 __all__ = ["add_camera", "Calibration", "calibrate_mono", "calibrate_stereo", "detect_corners"]
 
 
-def add_camera(o: OptimizationProblem, name: str, K: np.ndarray, model: str = "opencv5",
+def add_camera(o: _problem.OptimizationProblem, name: str, K: np.ndarray, model: str = "opencv5",
                dist: Sequence[float] = (), fixed: bool = False) -> int:
     """Adds the intrinsics of a camera (an Rn of the model's size, labelled fx, fy, ...)."""
     k = intrinsics_vector(np.asarray(K, float), model, dist)
@@ -37,7 +37,7 @@ def add_camera(o: OptimizationProblem, name: str, K: np.ndarray, model: str = "o
 class Calibration:
     """A solved calibration: the problem, ids of its variables, the solve result."""
 
-    problem: OptimizationProblem
+    problem: _problem.OptimizationProblem
     model: str
     ids: Dict[str, int]
     view_ids: Dict[str, List[int]] = field(default_factory=dict)
@@ -58,25 +58,62 @@ class Calibration:
         return report(self.problem, rescale=rescale)
 
 
+# Two views whose boards are turned by less than this show the same orientation.
+_SAME_ORIENTATION_RAD = np.radians(1.0)
+
+
+def _check_orientations(cam_from_board: Sequence[SE3], camera: str) -> None:
+    """Raises ValueError unless the views show the board in ≥ 2 orientations.
+
+    Zhang's method (and the maximum-likelihood refinement after it) needs the
+    board turned between views: views that differ only by a translation, or are
+    repeated, constrain K like a single view, whose planar homography (8
+    numbers) cannot give the pose (6) and the intrinsics (4+) — the solve then
+    "converges" to a focal length several times off with no error. With zero
+    skew, two different orientations determine the intrinsics.
+    """
+    R = [p.rot.R for p in cam_from_board]
+    distinct: List[List[int]] = []  # views grouped by orientation
+    for i, Ri in enumerate(R):
+        for group in distinct:
+            if np.linalg.norm(SO3(R[group[0]].T @ Ri).log()) < _SAME_ORIENTATION_RAD:
+                group.append(i)
+                break
+        else:
+            distinct.append([i])
+    if len(distinct) < 2:
+        views = ", ".join(str(i) for i in distinct[0]) if distinct else "none"
+        raise ValueError(
+            f"{camera}: the board has the same orientation (within "
+            f"{np.degrees(_SAME_ORIENTATION_RAD):.0f}°) in every view ({views}): the intrinsics "
+            f"are not determined; take views with the board tilted in at least two different "
+            f"orientations")
+
+
 def _camera_init(image_points, object_points, image_size, camera):
     pts = check_views(image_points, object_points, image_size, camera)
-    K, board2cam = init_camera(object_points, pts, image_size)
-    return pts, K, board2cam
+    K, cam_from_board = init_camera(object_points, pts, image_size)
+    _check_orientations(cam_from_board, camera)
+    return pts, K, cam_from_board
 
 
 def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray,
-                   image_size: Tuple[int, int], model: str = "opencv5", sigma: Any = 1.0,
+                   image_size: Tuple[int, int], model: str = "opencv5", sigma: Any = None,
                    name: str = "camera", solve: bool = True, covariance: Any = None) -> Calibration:
-    """One camera from views of a planar board (Zhang's initial values, then ML)."""
-    pts, K, board2cam = _camera_init(image_points, object_points, image_size, name)
-    o = OptimizationProblem()
+    """One camera from views of a planar board (Zhang's initial values, then ML).
+
+    The corner noise is ``sigma`` (σ or [σu, σv], pixels) or a 2×2 ``covariance``
+    (none: σ = 1). Raises ValueError naming the camera and view for bad
+    detections, and when the board has one orientation in every view (the
+    intrinsics are then undetermined)."""
+    pts, K, cam_from_board = _camera_init(image_points, object_points, image_size, name)
+    o = _problem.OptimizationProblem()
     cam = add_camera(o, name, K, model)
     ident = o.add_random_var(SE3(), fixed=True, name="identity")
     mids = []
-    for i, (p, pose) in enumerate(zip(pts, board2cam)):
-        x2world = o.add_random_var(pose.inverse(), name=f"{name}2world_{i}")
-        mids.append(o.add_board(p, cam, x2world, ident, object_points,
-                                sigma=None if covariance is not None else sigma,
+    for i, (p, pose) in enumerate(zip(pts, cam_from_board)):
+        world_from_cam = o.add_random_var(pose.inverse(), name=f"world_from_{name}_{i}")
+        mids.append(o.add_board(p, cam, world_from_cam, ident, object_points, sigma=sigma,
                                 covariance=covariance, model=model, group=name))
     cal = Calibration(o, model, {name: cam}, {name: mids})
     if solve:
@@ -86,18 +123,18 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
 
 def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[np.ndarray],
                      object_points: np.ndarray, image_size: Tuple[int, int],
-                     model: str = "opencv5", sigma: float = 1.0,
+                     model: str = "opencv5", sigma: Any = None,
                      fixed_intrinsics: Optional[Tuple[np.ndarray, np.ndarray]] = None,
-                     solve: bool = True) -> Calibration:
-    """A stereo pair seeing the same boards: intrinsics of both cameras, left2right
-    and one left2world per view, jointly (or with ``fixed_intrinsics`` =
+                     solve: bool = True, covariance: Any = None) -> Calibration:
+    """A stereo pair seeing the same boards: intrinsics of both cameras, right_from_left
+    and one world_from_left per view, jointly (or with ``fixed_intrinsics`` =
     (k_left, k_right) model vectors held constant, like OpenCV's
     CALIB_FIX_INTRINSIC)."""
     if len(left_points) != len(right_points):
         raise ValueError(f"stereo: {len(left_points)} left and {len(right_points)} right views")
-    pl, Kl, b2l = _camera_init(left_points, object_points, image_size, "left")
-    pr, Kr, b2r = _camera_init(right_points, object_points, image_size, "right")
-    o = OptimizationProblem()
+    pl, Kl, left_from_board = _camera_init(left_points, object_points, image_size, "left")
+    pr, Kr, right_from_board = _camera_init(right_points, object_points, image_size, "right")
+    o = _problem.OptimizationProblem()
     if fixed_intrinsics is None:
         left = add_camera(o, "left", Kl, model)
         right = add_camera(o, "right", Kr, model)
@@ -107,14 +144,16 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
         right = o.add_random_var(Rn(np.asarray(fixed_intrinsics[1], float)), fixed=True,
                                  name="right", labels=CAMERA_LABELS[model])
     ident = o.add_random_var(SE3(), fixed=True, name="identity")
-    left2right = o.add_random_var(relative_pose_init(b2l, b2r), name="left2right")
+    right_from_left = o.add_random_var(relative_pose_init(left_from_board, right_from_board),
+                                       name="right_from_left")
     ml, mr = [], []
-    for i, (zl, zr, pose) in enumerate(zip(pl, pr, b2l)):
-        l2w = o.add_random_var(pose.inverse(), name=f"left2world_{i}")
-        ml.append(o.add_board(zl, left, l2w, ident, object_points, sigma=sigma, model=model, group="left"))
-        mr.append(o.add_board(zr, right, l2w, left2right, object_points, sigma=sigma, model=model,
-                              group="right"))
-    cal = Calibration(o, model, {"left": left, "right": right, "left2right": left2right},
+    for i, (zl, zr, pose) in enumerate(zip(pl, pr, left_from_board)):
+        world_from_left = o.add_random_var(pose.inverse(), name=f"world_from_left_{i}")
+        ml.append(o.add_board(zl, left, world_from_left, ident, object_points, sigma=sigma,
+                              covariance=covariance, model=model, group="left"))
+        mr.append(o.add_board(zr, right, world_from_left, right_from_left, object_points,
+                              sigma=sigma, covariance=covariance, model=model, group="right"))
+    cal = Calibration(o, model, {"left": left, "right": right, "right_from_left": right_from_left},
                       {"left": ml, "right": mr})
     if solve:
         cal.result = o.solve()

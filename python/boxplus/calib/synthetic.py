@@ -1,8 +1,8 @@
 """Synthetic rigs with known ground truth, for tests and examples: a board,
 camera poses looking at it, OpenCV-model projection with pixel noise.
 
-Frames as everywhere in :mod:`boxplus.calib`: ``cam2world`` is a camera's
-pose in the board ("world") frame; ``p_in_cam = cam2world.tolocal(p_world)``.
+Frames as everywhere in :mod:`boxplus.calib`: ``world_from_cam`` is a camera's
+pose in the board ("world") frame; ``p_in_cam = world_from_cam.tolocal(p_in_world)``.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ def board_points(cols: int = 9, rows: int = 6, square: float = 0.04) -> np.ndarr
 
 def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance: float = 0.6,
                  spread: float = 0.35, roll: float = 0.4) -> List[SE3]:
-    """n cam2world poses around the board, looking at ``center`` from above (z < 0)."""
+    """n world_from_cam poses around the board, looking at ``center`` from above (z < 0)."""
     out = []
     for _ in range(n):
         d = np.array([rng.uniform(-spread, spread), rng.uniform(-spread, spread), -1.0])
@@ -40,13 +40,13 @@ def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance:
     return out
 
 
-def observe(k: np.ndarray, cam2world: SE3, p_world: np.ndarray, sigma: float,
+def observe(k: np.ndarray, world_from_cam: SE3, p_in_world: np.ndarray, sigma: float,
             rng: np.random.Generator, model: str = "opencv5",
             image_size: Optional[Tuple[int, int]] = (640, 480)) -> Tuple[np.ndarray, np.ndarray]:
     """Noisy pixels of the board points a camera sees: (z (M, 2), visible mask (N,))."""
-    p_cam = np.stack([cam2world.tolocal(p) for p in p_world])
-    uv = project(k, p_cam, model)
-    vis = p_cam[:, 2] > 0
+    p_in_cam = np.stack([world_from_cam.tolocal(p) for p in p_in_world])
+    uv = project(k, p_in_cam, model)
+    vis = p_in_cam[:, 2] > 0
     if image_size is not None:
         vis &= (uv[:, 0] >= 0) & (uv[:, 0] < image_size[0]) & (uv[:, 1] >= 0) & (uv[:, 1] < image_size[1])
     return uv[vis] + rng.normal(0, sigma, (vis.sum(), 2)), vis

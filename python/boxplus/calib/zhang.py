@@ -6,7 +6,7 @@ constraints each homography puts on B = K⁻ᵀK⁻¹ (Sec. 3.1), and each view'
 from K⁻¹H (Sec. 3.1, eq. 12), projected onto SO(3).
 
 Frames: the target's points are ``p_in_board`` with z = 0; a pose returned as
-``board_to_cam`` maps them into the camera frame (p_in_cam = R p + t).
+``cam_from_board`` maps them into the camera frame (p_in_cam = R p + t).
 """
 
 from __future__ import annotations
@@ -111,7 +111,7 @@ def intrinsics_from_homographies(
 
 
 def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
-    """board_to_cam from K and the board→image homography (Zhang, eq. 12)."""
+    """cam_from_board from K and the board→image homography (Zhang, eq. 12)."""
     A = np.linalg.solve(K, H)
     lam = 1.0 / np.linalg.norm(A[:, 0])
     if A[2, 2] * lam < 0:  # the board must be in front of the camera
@@ -124,7 +124,7 @@ def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
 def init_camera(
     object_points: np.ndarray, image_points: Sequence[np.ndarray], image_size: Tuple[int, int]
 ) -> Tuple[np.ndarray, List[SE3]]:
-    """K and one board_to_cam pose per view, from a planar target (z = 0).
+    """K and one cam_from_board pose per view, from a planar target (z = 0).
 
     Parameters
     ----------

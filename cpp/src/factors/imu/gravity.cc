@@ -1,4 +1,4 @@
-#include "boxplus/factors/gravity.h"
+#include "boxplus/factors/imu/gravity.h"
 
 #include "boxplus/errors.h"
 
@@ -13,16 +13,17 @@ int GravityModelSize(const std::string& model) {
 
 std::shared_ptr<ceres::CostFunction> MakeGravityFactor(const std::string& model,
                                                        const Eigen::Vector3d& z,
-                                                       const Eigen::Matrix3d& W,
-                                                       const Eigen::Vector3d& g) {
-  BOXPLUS_CHECK(z.allFinite() && g.allFinite(), "gravity factor: non-finite input");
+                                                       const NoiseModel& noise,
+                                                       const Eigen::Vector3d& g_in_world) {
+  BOXPLUS_CHECK(z.allFinite() && g_in_world.allFinite(), "gravity factor: non-finite input");
+  const Eigen::Matrix3d W = noise.Fixed<3>("gravity factor");
   switch (GravityModelSize(model)) {
     case 0:
-      return GravityFunctor<0>::Create(z, W, g);
+      return GravityFunctor<0>::Create(z, W, g_in_world);
     case 1:
-      return GravityFunctor<1>::Create(z, W, g);
+      return GravityFunctor<1>::Create(z, W, g_in_world);
     default:
-      return GravityFunctor<4>::Create(z, W, g);
+      return GravityFunctor<4>::Create(z, W, g_in_world);
   }
 }
 

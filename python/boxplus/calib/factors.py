@@ -1,0 +1,262 @@
+"""The built-in C++ sensor factors as methods of :class:`boxplus.OptimizationProblem`.
+
+:class:`CalibrationFactors` is a mixin: ``OptimizationProblem`` inherits it and
+provides the hooks it calls (``_core``, ``_check_ids(ids, what)``,
+``codec(vid)``, ``_register(mid, group)``). Each method validates its input,
+builds one :class:`boxplus.NoiseModel` from the noise keywords (exactly one of
+``sigma``, ``covariance``, ``information``, ``noise``; none: σ = 1; see
+:mod:`boxplus.noise`) and hands it to the C++ factor, which whitens with it;
+the problem keeps the same model, so ``errors()`` and ``rms()`` are in the
+measurement's units (pixels, m/s², disparity units).
+
+Frames are named ``b_from_a`` (the pose that maps a-coordinates to b) and
+points ``p_in_b``. "rig" is the reference camera of a rig (MTKM's x):
+``world_from_rig`` is the reference camera's pose in the world (board) frame,
+``cam_from_rig`` takes it to the camera that measured (fix it to the identity
+for one camera). The maths, blocks and units of each factor are in its header
+under ``cpp/include/boxplus/factors/<domain>/``.
+
+This module imports only ``_core``, ``noise``, ``manifolds`` and ``losses``
+(``boxplus.problem`` imports it).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, List, Optional, Sequence
+
+import numpy as np
+
+from boxplus import _core
+from boxplus.losses import LossSpec, make_loss
+from boxplus.manifolds import SE3
+from boxplus.noise import NoiseModel, noise_model
+
+__all__ = ["CalibrationFactors"]
+
+
+def _what(name: Optional[str], kind: str, number: int) -> str:
+    return f"measurement '{name}'" if name else f"{kind} #{number}"
+
+
+def _vector(value: Any, n: int, keyword: str, what: str) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{what}: {keyword} must be {n} numbers, got {type(value).__name__}") from None
+    if a.size != n:
+        raise ValueError(f"{what}: {keyword} must have {n} entries, got shape {a.shape}")
+    return a.reshape(n)
+
+
+def _pose(value: Any, keyword: str, what: str) -> np.ndarray:
+    if not isinstance(value, SE3):
+        raise TypeError(f"{what}: {keyword} must be an SE3, got {type(value).__name__}")
+    return value.ambient
+
+
+class CalibrationFactors:
+    """add_projection, add_board, add_marker, add_dh_marker, add_gravity,
+    add_relative_pose, add_point and add_disparity (the C++ factors)."""
+
+    if TYPE_CHECKING:  # the hooks the host class (OptimizationProblem) provides
+        _core: Any
+
+        def _check_ids(self, ids: Sequence[int], what: str) -> List[int]: ...
+
+        def codec(self, vid: int) -> Any: ...
+
+        def _register(self, mid: int, group: str) -> int: ...
+
+    # ---- shared checks ---------------------------------------------------------------
+    def _check_intrinsics(self, intrinsics: int, model: str, what: str) -> None:
+        try:
+            size = _core.camera_model_size(model)
+        except (ValueError, RuntimeError) as e:
+            raise ValueError(f"{what}: {e}") from None
+        have = self.codec(intrinsics).ambient_size
+        if have != size:
+            raise ValueError(f"{what}: camera model '{model}' needs {size} intrinsics, variable "
+                             f"'{self._core.variable_name(int(intrinsics))}' has {have}")
+
+    def _count(self) -> int:
+        return self._core.num_measurements
+
+    # ---- camera ----------------------------------------------------------------------
+    def add_projection(
+        self, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
+        sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: Optional[NoiseModel] = None, model: str = "simple_radial", loss: LossSpec = None,
+        name: Optional[str] = None,
+    ) -> int:
+        """One known point seen by a camera (factors/camera/point_projection.h).
+
+        r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z), z (2,) in
+        pixels. ``intrinsics`` holds ``camera_model_size(model)`` numbers in the
+        model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
+        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]); ``world_from_rig``
+        and ``cam_from_rig`` are SE3 variables. RMS reports group these as
+        ``projection[model]``.
+        """
+        what = _what(name, "projection", self._count())
+        ids = self._check_ids([intrinsics, world_from_rig, cam_from_rig], what)
+        self._check_intrinsics(intrinsics, model, what)
+        W = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_pinhole_point(
+            model, *ids, _vector(z, 2, "z", what), W, _vector(p_in_world, 3, "p_in_world", what),
+            name or "", make_loss(loss, what))
+        return self._register(mid, f"projection[{model}]")
+
+    def add_board(
+        self, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
+        sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
+        name: Optional[str] = None, group: Optional[str] = None,
+    ) -> int:
+        """All visible points of a board in one C++ factor (factors/camera/board.h).
+
+        r_j = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world_j) − z_j);
+        ``z`` (N, 2) pixels, ``p_in_world`` (N, 3) the same points in the board
+        ("world") frame; the noise is that of one corner (2-dim), shared by the
+        points. ``group`` names the measurement group in RMS reports (default
+        ``board[model]``).
+        """
+        what = _what(name, "board", self._count())
+        ids = self._check_ids([intrinsics, world_from_rig, cam_from_rig], what)
+        zz = np.asarray(z, dtype=float)
+        pw = np.asarray(p_in_world, dtype=float)
+        if zz.ndim != 2 or zz.shape[1] != 2 or pw.shape != (len(zz), 3) or len(zz) == 0:
+            raise ValueError(f"{what}: z must be (N, 2) and p_in_world (N, 3) with N >= 1, got "
+                             f"{zz.shape} and {pw.shape}")
+        if not (np.all(np.isfinite(zz)) and np.all(np.isfinite(pw))):
+            raise ValueError(f"{what}: non-finite points (an undetected board?)")
+        self._check_intrinsics(intrinsics, model, what)
+        W = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_pinhole_board(model, *ids, np.ascontiguousarray(zz), W,
+                                           np.ascontiguousarray(pw), name or "",
+                                           make_loss(loss, what))
+        return self._register(mid, group or f"board[{model}]")
+
+    # ---- kinematics ------------------------------------------------------------------
+    def add_marker(
+        self, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
+        base_from_hand: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
+        name: Optional[str] = None, group: Optional[str] = None,
+    ) -> int:
+        """A marker on a hand, ``base_from_hand`` (SE3) from forward kinematics
+        (factors/kinematics/marker.h): r = W (π(k, cam_from_rig · base_from_rig⁻¹ ·
+        base_from_hand · p_in_hand) − z), z in pixels."""
+        what = _what(name, "marker", self._count())
+        ids = self._check_ids([intrinsics, base_from_rig, p_in_hand, cam_from_rig], what)
+        self._check_intrinsics(intrinsics, model, what)
+        pose = _pose(base_from_hand, "base_from_hand", what)
+        W = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_marker(model, *ids, _vector(z, 2, "z", what), W, pose, name or "",
+                                    make_loss(loss, what))
+        return self._register(mid, group or "marker")
+
+    def add_dh_marker(
+        self, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
+        dh: int, joints: Any, base_from_chain: Any = None, flange_from_hand: Any = None,
+        sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
+        name: Optional[str] = None, group: Optional[str] = None,
+    ) -> int:
+        """A marker through a DH chain with unknown link parameters ``dh`` (an Rn(4n)
+        variable: per joint [θ offset, d, a, α]) and joint readings ``joints`` (rad):
+        base_from_hand = base_from_chain · A₁ … Aₙ · flange_from_hand
+        (factors/kinematics/marker.h, dh.h); the constant ends default to the identity."""
+        what = _what(name, "DH marker", self._count())
+        ids = self._check_ids([intrinsics, base_from_rig, p_in_hand, cam_from_rig, dh], what)
+        self._check_intrinsics(intrinsics, model, what)
+        q = np.asarray(joints, float).reshape(-1)
+        if self.codec(dh).ambient_size != 4 * len(q):
+            raise ValueError(f"{what}: {len(q)} joint readings need a dh variable of {4 * len(q)} "
+                             f"numbers, '{self._core.variable_name(int(dh))}' has "
+                             f"{self.codec(dh).ambient_size}")
+        pre = _pose(SE3() if base_from_chain is None else base_from_chain, "base_from_chain", what)
+        post = _pose(SE3() if flange_from_hand is None else flange_from_hand, "flange_from_hand", what)
+        W = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_dh_marker(model, *ids, _vector(z, 2, "z", what), W, q, pre, post,
+                                       name or "", make_loss(loss, what))
+        return self._register(mid, group or "marker")
+
+    # ---- IMU -------------------------------------------------------------------------
+    def add_gravity(
+        self, z: Any, world_from_rig: int, imu_from_rig: int, accel: Optional[int] = None,
+        g_in_world: Any = (0.0, 0.0, -9.81), sigma: Any = None, covariance: Any = None,
+        information: Any = None, noise: Optional[NoiseModel] = None, loss: LossSpec = None,
+        name: Optional[str] = None, group: str = "gravity",
+    ) -> int:
+        """Gravity read by an accelerometer (factors/imu/gravity.h):
+        r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z), m/s².
+        ``accel``: None (rotation only), an Rn(1) [s] or an Rn(4) [s, bx, by, bz]
+        variable."""
+        what = _what(name, "gravity", self._count())
+        ids = self._check_ids([world_from_rig, imu_from_rig] + ([] if accel is None else [accel]),
+                              what)
+        if accel is None:
+            model = "rotation"
+        else:
+            n = self.codec(accel).ambient_size
+            model = {1: "scale", 4: "scale_bias"}.get(n)
+            if model is None:
+                raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
+        W = noise_model(3, sigma, covariance, information, noise, what)
+        mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
+                                     _vector(z, 3, "z", what), W,
+                                     _vector(g_in_world, 3, "g_in_world", what), name or "",
+                                     make_loss(loss, what))
+        return self._register(mid, group)
+
+    # ---- pose ------------------------------------------------------------------------
+    def add_relative_pose(
+        self, a_from_b: Any, world_from_a: int, world_from_b: int, sigma: Any = None,
+        covariance: Any = None, information: Any = None, noise: Optional[NoiseModel] = None,
+        loss: LossSpec = None, name: Optional[str] = None, group: str = "relative_pose",
+    ) -> int:
+        """r = W ((world_from_a⁻¹ · world_from_b) ⊟ a_from_b), tangent [δp, δθ]
+        (6-dim noise; factors/relative_pose.h)."""
+        what = _what(name, "relative pose", self._count())
+        ids = self._check_ids([world_from_a, world_from_b], what)
+        z = _pose(a_from_b, "a_from_b", what)
+        W = noise_model(6, sigma, covariance, information, noise, what)
+        mid = self._core.add_relative_pose(*ids, z, W, name or "", make_loss(loss, what))
+        return self._register(mid, group)
+
+    def add_point(
+        self, z: Any, world_from_rig: int, cam_from_rig: int, p_in_world: Any, sigma: Any = None,
+        covariance: Any = None, information: Any = None, noise: Optional[NoiseModel] = None,
+        loss: LossSpec = None, name: Optional[str] = None, group: str = "point",
+    ) -> int:
+        """A 3-D point measured in a sensor: r = W (cam_from_rig · world_from_rig⁻¹ ·
+        p_in_world − z) (factors/point.h); ``p_in_world`` a known point (3,) or the
+        id of an Rn(3) variable."""
+        what = _what(name, "point", self._count())
+        if isinstance(p_in_world, (int, np.integer)):
+            ids = self._check_ids([world_from_rig, cam_from_rig, p_in_world], what)
+            pw, pid = np.zeros(3), ids[2]
+        else:
+            ids = self._check_ids([world_from_rig, cam_from_rig], what)
+            pw, pid = _vector(p_in_world, 3, "p_in_world", what), -1
+        W = noise_model(3, sigma, covariance, information, noise, what)
+        mid = self._core.add_point(ids[0], ids[1], pid, _vector(z, 3, "z", what), W, pw,
+                                   name or "", make_loss(loss, what))
+        return self._register(mid, group)
+
+    # ---- depth -----------------------------------------------------------------------
+    def add_disparity(
+        self, d: float, world_from_rig: int, cam_from_rig: int, disparity_params: int,
+        p_in_world: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: Optional[NoiseModel] = None, loss: LossSpec = None, name: Optional[str] = None,
+        group: str = "disparity",
+    ) -> int:
+        """Kinect-style disparity d = a / Z + b of a board point (factors/depth/disparity.h);
+        ``disparity_params`` an Rn(2) variable [a, b]; 1-dim noise in disparity units."""
+        what = _what(name, "disparity", self._count())
+        ids = self._check_ids([world_from_rig, cam_from_rig, disparity_params], what)
+        W = noise_model(1, sigma, covariance, information, noise, what)
+        mid = self._core.add_disparity(*ids, float(_vector(d, 1, "d", what)[0]), W,
+                                       _vector(p_in_world, 3, "p_in_world", what), name or "",
+                                       make_loss(loss, what))
+        return self._register(mid, group)
