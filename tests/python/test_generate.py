@@ -101,7 +101,7 @@ def test_noise_is_consistent_with_the_written_information(tmp_path, dim, convent
 
 
 @pytest.mark.parametrize("family,dim", [("manhattan", 2), ("grid", 3), ("sphere", 3),
-                                        ("torus", 2)])
+                                        ("torus", 2), ("random_walk", 2), ("random_walk", 3)])
 def test_tiny_noise_solves_to_the_truth_up_to_the_gauge(tmp_path, family, dim):
     g = generate(family, dim, 300, noise="tiny", seed=3)
     g.write(tmp_path / "g.g2o")
@@ -190,7 +190,7 @@ def test_bad_parameters_raise_clear_errors():
 
 def test_benchmark_suite_spans_families_sizes_noise_and_outliers():
     suite = benchmark_suite(seed=1)
-    assert len(suite) >= 50
+    assert len(suite) == 60
     assert len({s.name for s in suite}) == len(suite)
     assert {(s.family, s.dimension) for s in suite} == set(CASES)
     assert {s.noise for s in suite} == set(NOISE_LEVELS)

@@ -261,7 +261,8 @@ def _ring_candidates(n: int, per_level: int, laps: int, wrap: bool) -> np.ndarra
     src, dst = src.ravel(), dst.ravel()
     ok = (dst >= 0) & (dst < n) & (src < n) & (np.abs(dst - src) > 1)
     lo, hi = np.minimum(src[ok], dst[ok]), np.maximum(src[ok], dst[ok])
-    key = np.unique(lo.astype(np.int64) * n + hi)  # sorted, without repeats
+    key = np.sort(lo.astype(np.int64) * n + hi)
+    key = key[np.concatenate([[True], key[1:] != key[:-1]])]  # a tiny ring repeats pairs
     return np.column_stack([key // n, key % n])
 
 
@@ -312,8 +313,9 @@ def _fold(x: np.ndarray, side: float):
 
 def _random_walk(dim: int, n: int, rng: np.random.Generator, step: float, turn: float = 0.2,
                  radius: float = 1.0, min_gap: int = 10) -> Trajectory:
-    # Boxes of 4 m² (2D) or 2 m³ (3D) per pose: revisits are frequent, not constant.
-    side = (n * (4.0 if dim == 2 else 2.0)) ** (1.0 / dim) * step
+    # A box of 1 step² (2D) or ½ step³ (3D) per pose: one revisit candidate for
+    # about every third pose, at every size.
+    side = (n * (1.0 if dim == 2 else 0.5)) ** (1.0 / dim) * step
     forward = np.zeros((n - 1, dim))
     forward[:, 0] = step
     if dim == 2:
