@@ -125,6 +125,11 @@ def test_tiny_noise_solves_to_the_truth_up_to_the_gauge(tmp_path, family, dim):
     # The optimum is no worse than the truth, a feasible point of a nearly convex problem.
     g.write_truth(tmp_path / "t.g2o")
     assert 2 * summary.final_cost <= slam.load_g2o(tmp_path / "t.g2o").chi2() * (1 + 1e-9)
+    # With tiny noise the problem is linear about the truth: the minimum is χ² with
+    # d·(M − (N − 1)) degrees of freedom (N − 1 free poses of d unknowns each).
+    d = 3 if dim == 2 else 6
+    lo, hi = _chi2_band(d * (g.num_edges - g.num_poses + 1))
+    assert lo <= 2 * summary.final_cost <= hi
 
 
 @pytest.mark.parametrize("dim", [2, 3])
