@@ -7,7 +7,7 @@ JOBS   ?= 2
 CPP_BUILD := build/cpp
 PREFIX    := build/prefix
 
-.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench clean
+.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench fuzz clean
 
 demo: install
 	$(VPY) examples/demo.py
@@ -52,6 +52,12 @@ lint: venv
 bench: install
 	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true
 	$(VPY) bench/run_all.py
+
+# 10⁶ seeded mutations of the g2o files through the loader (and a sample through
+# boxplus-g2o); bad outcomes are kept in tests/data/fuzz_regressions/.
+fuzz: install
+	OPENBLAS_NUM_THREADS=1 $(VPY) -m boxplus.testing.fuzz --cases 1000000 --seed 2 \
+	    --cli $(VENV)/bin/boxplus-g2o --cli-every 1000
 
 clean:
 	rm -rf build $(VENV)

@@ -13,6 +13,7 @@ void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
 void RegisterPythonMeasurements(pybind11::module_& m);
 void RegisterFactors(pybind11::module_& m);
+void RegisterPoseFactors(pybind11::module_& m);  // factors/pose.cc
 void RegisterSlam(pybind11::module_& m);
 
 }  // namespace boxplus::python

@@ -12,8 +12,6 @@
 #include "boxplus/factors/gravity.h"
 #include "boxplus/factors/marker.h"
 #include "boxplus/factors/pinhole.h"
-#include "boxplus/factors/point.h"
-#include "boxplus/factors/relative_pose.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 
@@ -101,33 +99,6 @@ void RegisterFactors(py::module_& m) {
       py::arg("sqrt_info"), py::arg("g_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "Gravity in the IMU: r = W (s R_imu_x R_x2worldᵀ g + b − z); accel ignored for model "
       "'rotation'; see factors/gravity.h.");
-  problem.def(
-      "add_relative_pose",
-      [](Problem& p, int a2world, int b2world, const Pose& z_b2a,
-         const Eigen::Matrix<double, 6, 6>& sqrt_info, const std::string& name,
-         const LossHandle* loss) {
-        return p.AddMeasurement(MakeRelativePoseFactor(z_b2a, sqrt_info), {a2world, b2world},
-                                Loss(loss), name);
-      },
-      py::arg("a2world"), py::arg("b2world"), py::arg("z_b2a"), py::arg("sqrt_info"),
-      py::arg("name") = "", py::arg("loss") = nullptr,
-      "r = W ((a2world⁻¹ ∘ b2world) ⊟ z_b2a), tangent [δp, δθ]; see factors/relative_pose.h.");
-  problem.def(
-      "add_point",
-      [](Problem& p, int x2world, int x2cam, int p_world_id, const Eigen::Vector3d& z,
-         const Eigen::Matrix3d& sqrt_info, const Eigen::Vector3d& p_world,
-         const std::string& name, const LossHandle* loss) {
-        if (p_world_id >= 0) {
-          return p.AddMeasurement(MakeLandmarkPointFactor(z, sqrt_info),
-                                  {x2world, x2cam, p_world_id}, Loss(loss), name);
-        }
-        return p.AddMeasurement(MakePointFactor(z, sqrt_info, p_world), {x2world, x2cam},
-                                Loss(loss), name);
-      },
-      py::arg("x2world"), py::arg("x2cam"), py::arg("p_world_id"), py::arg("z"),
-      py::arg("sqrt_info"), py::arg("p_world"), py::arg("name") = "", py::arg("loss") = nullptr,
-      "3-D point in the sensor frame: r = W (x2cam ∘ x2world⁻¹ ∘ p_world − z); p_world_id < 0 "
-      "uses the constant p_world; see factors/point.h.");
   problem.def(
       "add_disparity",
       [](Problem& p, int x2world, int x2cam, int disparity_params, double d, double sigma,

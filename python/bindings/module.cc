@@ -10,5 +10,6 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterProblem(m);
   boxplus::python::RegisterPythonMeasurements(m);
   boxplus::python::RegisterFactors(m);
+  boxplus::python::RegisterPoseFactors(m);
   boxplus::python::RegisterSlam(m);
 }

@@ -777,7 +777,8 @@ class OptimizationProblem:
         if not isinstance(z_b2a, SE3):
             raise TypeError(f"{what}: z_b2a must be an SE3")
         W = _sqrt_info(sigma, 6, what)
-        mid = self._core.add_relative_pose(*ids, z_b2a.ambient, W, name or "", _make_loss(loss, what))
+        mid = self._core.add_relative_pose(*ids, z_b2a.ambient, _core.NoiseModel.sqrt_information(W, what),
+                                           name or "", _make_loss(loss, what))
         return self._cpp(mid, group, W)
 
     def add_point(
@@ -794,7 +795,8 @@ class OptimizationProblem:
             ids = self._check_ids([x2world, x2cam], what)
             pw, pid = np.asarray(p_world, float).reshape(3), -1
         W = _sqrt_info(sigma, 3, what)
-        mid = self._core.add_point(ids[0], ids[1], pid, np.asarray(z, float).reshape(3), W, pw,
+        mid = self._core.add_point(ids[0], ids[1], pid, np.asarray(z, float).reshape(3),
+                                   _core.NoiseModel.sqrt_information(W, what), pw,
                                    name or "", _make_loss(loss, what))
         return self._cpp(mid, group, W)
 
