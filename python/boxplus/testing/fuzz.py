@@ -476,15 +476,14 @@ def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | N
                    "--data", str(data), "--cli-every", str(cli_every)]
             if cli:
                 cmd += ["--cli", cli]
-            p = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
             last = start - 1
-            for line in p.stdout:
-                i, outcome, detail = json.loads(line)
-                last = i
-                counts[outcome] += 1
-                if outcome in BAD:
-                    bad.append((i, outcome, detail))
-            p.wait()
+            with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
+                for line in p.stdout:
+                    i, outcome, detail = json.loads(line)
+                    last = i
+                    counts[outcome] += 1
+                    if outcome in BAD:
+                        bad.append((i, outcome, detail))
             if last + 1 < end:  # the worker died on case last + 1
                 i = last + 1
                 counts["crash"] += 1
