@@ -5,7 +5,7 @@ file's; the spanning tree for files without vertices) and the same gauge (the
 first vertex fixed), one thread each, prints side by side: iterations,
 ms/iteration, solve time, the time to reach the best objective any run reaches
 (within 1e-6 relative, from each run's per-iteration trace), final chi2 in both
-conventions (scored by one numpy function, boxplus.slam.reference), the peak
+conventions (scored by one numpy function, boxplus.testing.g2o_reference), the peak
 memory of loading and solving (peak RSS above the process's RSS before it
 loaded the file: after the imports for the in-process runs, above the RSS of
 `boxplus-g2o --version` for the command-line one), and the ratio of boxplus'
@@ -40,6 +40,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from boxplus.testing import g2o_reference as g2o_ref
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
@@ -93,7 +95,7 @@ def worker(tool, path, out_npy, iterations):
     """
     import boxplus.slam as slam
 
-    data = slam.read_g2o_arrays(path)
+    data = g2o_ref.read_g2o_arrays(path)
     init = data["poses"]
     res = {}
     parts = tool.split(":")
@@ -109,14 +111,17 @@ def worker(tool, path, out_npy, iterations):
             wall = time.perf_counter() - t0
             if r.returncode != 0:
                 raise RuntimeError(r.stderr)
-            stdout = r.stdout
-            mem = re.search(r"# memory: peak RSS (\S+) MB, (\S+) MB before", stdout)
+            # Progress lines (boxplus/progress.h) on stdout: iteration, chi2,
+            # change, |gradient|, |step|, radius/α, cumulative time "T s";
+            # diagnostics and the summary on stderr.
+            mem = re.search(r"# memory: peak RSS (\S+) MB, (\S+) MB before", r.stderr)
             trace = [(float(m.group(2)), float(m.group(1))) for m in
-                     re.finditer(r"chi2= (\S+)\t time= \S+\t cumTime= (\S+)", stdout)]
-            summ = re.search(r"# (\w+) after (\d+) iterations, (\S+) s", stdout)
-            poses = slam.read_g2o_arrays(out)["poses"]
+                     re.finditer(r"^\s*[1-9]\d*\s+(\S+)(?:\s+\S+){4}\s+(\S+) s", r.stdout,
+                                 re.MULTILINE)]
+            summ = re.search(r"# (\w+): chi2 \S+ -> \S+ in (\d+) iterations, (\S+) s", r.stderr)
+            poses = g2o_ref.read_g2o_arrays(out)["poses"]
         res = {"iterations": int(summ.group(2)), "time_s": float(summ.group(3)),
-               "wall_s": wall, "trace": trace[1:]}
+               "wall_s": wall, "trace": trace}
         peak_kb = 1024 * (float(mem.group(1)) - float(mem.group(2)))
     elif parts[0] == "boxplus-py":
         conv = parts[1]
@@ -142,7 +147,7 @@ def worker(tool, path, out_npy, iterations):
         run = sp.run_gtsam if lib == "gtsam" else sp.run_g2o
 
         def run_once(p):
-            d = slam.read_g2o_arrays(p)
+            d = g2o_ref.read_g2o_arrays(p)
             run(p, d, d["poses"], method, 5)
 
         _warm_up(run_once, data["dim"])
@@ -177,13 +182,13 @@ def run_sesync(slam, name, path, data, iterations):
     g = slam.load_g2o(path, init="chordal", convention="sesync")
     s = g.solve(max_iterations=iterations, function_tolerance=TOL)
     poses = g.poses()[[g.vertex_ids.index(i) for i in data["ids"]]]
-    f = slam.chi2_sesync(data, poses)
+    f = g2o_ref.chi2_sesync(data, poses)
     ref = SESYNC.get(name)
     gap = (f - ref) / ref if ref else None
     print(f"  chordal init + {s.iterations} it in the sesync convention, {s.time_s:.3f} s: "
           f"SE-Sync objective {f:.6g}"
           + (f", certified optimum {ref:g}, relative gap {gap:+.2e}" if ref else "")
-          + f"; chi2 g2o {slam.chi2_g2o(data, poses):.6g} log {slam.chi2_log(data, poses):.6g}")
+          + f"; chi2 g2o {g2o_ref.chi2_g2o(data, poses):.6g} log {g2o_ref.chi2_log(data, poses):.6g}")
     return name, f, ref, gap, s.iterations, s.time_s
 
 
@@ -218,10 +223,10 @@ def main():
             name = src.stem
             g0 = slam.load_g2o(src)  # spanning tree for files without vertices
             path = src
-            if not g0.report["estimates_from_file"]:
+            if not g0.report.estimates_from_file:
                 path = Path(tmp) / f"{name}-init.g2o"
                 g0.save_g2o(path)
-            data = slam.read_g2o_arrays(path)
+            data = g2o_ref.read_g2o_arrays(path)
             if args.sesync_only:
                 print(f"\n== {name}")
                 sesync_rows.append(run_sesync(slam, name, path, data, args.iterations))
@@ -229,14 +234,14 @@ def main():
             results = {t: run_worker(t, path, args.iterations) for t in tools}
             for r in results.values():
                 if "poses" in r:
-                    r["chi2"] = {"g2o": slam.chi2_g2o(data, r["poses"]),
-                                 "log": slam.chi2_log(data, r["poses"])}
+                    r["chi2"] = {"g2o": g2o_ref.chi2_g2o(data, r["poses"]),
+                                 "log": g2o_ref.chi2_log(data, r["poses"])}
             best = {c: min(r["chi2"][c] for t, r in results.items()
                            if "chi2" in r and conv_of[t] == c) for c in ("g2o", "log")}
             print(f"\n== {name}: {len(data['ids'])} poses, {len(data['z'])} edges, "
-                  f"{data['dim']}D, initial chi2 g2o {slam.chi2_g2o(data, data['poses']):.6g} "
-                  f"log {slam.chi2_log(data, data['poses']):.6g}"
-                  + ("" if g0.report["estimates_from_file"] else " (spanning-tree start)"))
+                  f"{data['dim']}D, initial chi2 g2o {g2o_ref.chi2_g2o(data, data['poses']):.6g} "
+                  f"log {g2o_ref.chi2_log(data, data['poses']):.6g}"
+                  + ("" if g0.report.estimates_from_file else " (spanning-tree start)"))
             print(f"{'run':22s} {'iter':>5s} {'ms/it':>8s} {'time s':>8s} {'to best s':>9s} "
                   f"{'chi2 g2o':>16s} {'chi2 log':>16s} {'peak MB':>7s}  reaches best?")
             for t in tools:

@@ -5,8 +5,11 @@
 // Reads the file strictly (errors name the file and line), builds the
 // problem (see boxplus/slam/pose_graph.h), optionally re-initialises it,
 // solves it with Ceres and writes the result with the file's ids and order.
-// Exit codes: 0 success, 1 the solver failed, 2 bad input or usage.
+// Exit codes: 0 success, 1 the solver failed, 2 bad input or usage, 130
+// interrupted (Ctrl-C: the last accepted estimate is written to -o first).
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -16,8 +19,10 @@
 
 #include "boxplus/errors.h"
 #include "boxplus/io/g2o.h"
-#include "boxplus/slam/initialization.h"
-#include "boxplus/slam/pose_graph.h"
+#include "boxplus/loss.h"
+#include "boxplus/progress.h"
+#include "boxplus/slam/load.h"
+#include "boxplus/solver_options.h"
 #include "boxplus/version.h"
 
 namespace {
@@ -41,7 +46,8 @@ options:
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
   -t, --threads N        threads for Jacobians and linear algebra (default 1)
-  -o, --output FILE      write the optimised graph (ids and order kept)
+  -o, --output FILE      write the optimised graph (ids and order kept); '-' is
+                         stdout (then every other line goes to stderr)
   -c, --convention NAME  pose error: g2o (default; [t, vec(q)] of z⁻¹xᵢ⁻¹xⱼ, as
                          g2o's EdgeSE2/3), log (GTSAM's Pose2/Pose3 Logmap) or
                          sesync (alias chordal: SE-Sync's objective
@@ -68,9 +74,17 @@ options:
   -h, --help             this help
       --version          print the version
 
-Output: one line per iteration (chi2 = sum of e'Ωe, with the robust kernel if
-any; time in seconds), then a summary. chi2 is twice Ceres' cost.
+Output: on stdout one line per iteration in boxplus' progress format (chi2 =
+sum of e'Ωe, with the robust kernel if any; twice Ceres' cost; cumulative time
+in seconds); on stderr the '#' diagnostics (file, sizes, times, initial and
+final chi2, memory) and the summary. Ctrl-C stops the solver after the current
+iteration, writes the last accepted estimate to -o and exits with 130.
 )";
+
+// Set by SIGINT, read by the solver's per-iteration callback: the solve stops
+// at the next iteration boundary with the last accepted estimate in place.
+std::atomic<bool> g_interrupted{false};
+extern "C" void OnSigint(int) { g_interrupted = true; }
 
 [[noreturn]] void UsageError(const std::string& what) {
   std::fprintf(stderr, "boxplus-g2o: %s\n(try boxplus-g2o --help)\n", what.c_str());
@@ -109,12 +123,10 @@ double MemoryMB(const char* field) {
 }
 
 int main(int argc, char** argv) {
-  std::string input, output, solver = "auto", robust = "none", convention = "g2o",
-                            init = "file";
-  double width = 1.0;
+  std::string input, output, solver = "auto", convention = "g2o", init = "file";
   int iterations = 100, threads = 1;
   bool quiet = false, full_report = false;
-  boxplus::io::ReadOptions read;
+  boxplus::slam::LoadOptions load;
   boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
@@ -133,9 +145,9 @@ int main(int argc, char** argv) {
     } else if (a == "-s" || a == "--solver") {
       solver = value();
     } else if (a == "-r" || a == "--robust") {
-      robust = value();
+      load.graph.robust = value();
     } else if (a == "-w" || a == "--robust-width") {
-      width = ParseDouble(a, value());
+      load.graph.robust_width = ParseDouble(a, value());
     } else if (a == "-t" || a == "--threads") {
       threads = ParseInt(a, value());
     } else if (a == "-o" || a == "--output") {
@@ -145,20 +157,18 @@ int main(int argc, char** argv) {
     } else if (a == "--init") {
       init = value();
     } else if (a == "--skip-unknown") {
-      read.skip_unknown_tags = true;
+      load.read.skip_unknown_tags = true;
     } else if (a == "--repair-information") {
-      read.repair_information = true;
+      load.read.repair_information = true;
     } else if (a == "--initial-radius") {
       so.initial_trust_region_radius = ParseDouble(a, value());
       if (!(so.initial_trust_region_radius > 0)) UsageError("--initial-radius must be > 0");
     } else if (a == "--damping") {
       const std::string d = value();
-      if (d == "marquardt") {
-        so.damping = boxplus::Damping::kMarquardt;
-      } else if (d == "levenberg") {
-        so.damping = boxplus::Damping::kLevenberg;
-      } else {
-        UsageError("unknown damping '" + d + "' (marquardt or levenberg)");
+      try {
+        so.damping = boxplus::ParseDamping(d);
+      } catch (const boxplus::Error& e) {
+        UsageError(e.what());
       }
     } else if (a == "--jacobi-scaling") {
       so.jacobi_scaling = true;
@@ -178,7 +188,7 @@ int main(int argc, char** argv) {
       quiet = true;
     } else if (a == "--report") {
       full_report = true;
-    } else if (!a.empty() && a[0] == '-') {
+    } else if (!a.empty() && a[0] == '-' && a != "-") {
       UsageError("unknown option " + a);
     } else if (input.empty()) {
       input = a;
@@ -188,76 +198,76 @@ int main(int argc, char** argv) {
   }
   if (input.empty()) UsageError("no input file");
   if (threads < 1) UsageError("--threads must be >= 1");
-  if (solver == "lm") {
-    so.method = boxplus::Method::kLevenbergMarquardt;
-  } else if (solver == "gn") {
-    so.method = boxplus::Method::kGaussNewton;
-  } else if (solver == "dogleg") {
-    so.method = boxplus::Method::kDogleg;
-  } else if (solver == "gn-ls" || solver == "gn_ls") {
-    so.method = boxplus::Method::kGaussNewtonLineSearch;
-  } else if (solver != "auto") {
-    UsageError("unknown solver '" + solver + "' (auto, lm, gn, gn-ls or dogleg)");
+  // The vocabulary's one parser each (solver_options.h, loss.h, the pose
+  // error convention, the initialisation); "auto" is this tool's own.
+  try {
+    if (solver != "auto") so.method = boxplus::ParseMethod(solver);
+    boxplus::MakeLoss(load.graph.robust, load.graph.robust_width);
+    load.graph.convention = boxplus::ParsePoseErrorConvention(convention);
+    load.init = boxplus::slam::ParseInitMethod(init);
+  } catch (const boxplus::Error& e) {
+    UsageError(e.what());
   }
   so.max_iterations = iterations;
   so.num_threads = threads;
+  // With the graph on stdout, every other line goes to stderr.
+  const bool graph_to_stdout = output == "-";
+  FILE* progress = graph_to_stdout ? stderr : stdout;
 
   try {
     const double rss_before = MemoryMB("VmRSS");
-    const auto t0 = std::chrono::steady_clock::now();
-    boxplus::io::ReadReport report;
-    boxplus::io::Graph graph = boxplus::io::ReadG2o(input, read, &report);
-    std::fputs(report.Warnings(input).c_str(), stderr);
-    boxplus::slam::PoseGraphOptions po;
-    po.convention = boxplus::ParsePoseErrorConvention(convention);
-    po.robust = robust;
-    po.robust_width = width;
-    const boxplus::slam::InitMethod im = boxplus::slam::ParseInitMethod(init);
-    if (!graph.estimates_from_file && im == boxplus::slam::InitMethod::kFile) {
+    std::signal(SIGINT, OnSigint);
+    boxplus::slam::LoadReport report;
+    std::unique_ptr<boxplus::slam::PoseGraph> pg =
+        boxplus::slam::LoadPoseGraph(input, load, &report);
+    std::fputs(report.warnings.c_str(), stderr);
+    if (!report.estimates_from_file && load.init == boxplus::slam::InitMethod::kFile) {
       std::fprintf(stderr, "%s: no VERTEX lines: initial estimate by spanning tree\n",
                    input.c_str());
     }
-    boxplus::slam::Initialize(&graph, im);
-    const auto t_read = std::chrono::steady_clock::now();
-    if (solver == "auto") so.method = boxplus::slam::DefaultMethod(graph.dimension);
-    boxplus::slam::PoseGraph pg(std::move(graph), po);
-    const auto t_built = std::chrono::steady_clock::now();
-    const double read_s = std::chrono::duration<double>(t_read - t0).count();
-    const double build_s = std::chrono::duration<double>(t_built - t_read).count();
-    std::printf("# %s: %zu vertices, %zu edges, %dD, gauge vertex %d, read %.3f s, build %.3f s\n",
-                input.c_str(), pg.graph().vertices.size(), pg.graph().edges.size(),
-                pg.graph().dimension, pg.gauge_vertex(), read_s, build_s);
-    std::printf("# initial chi2 %.10g (convention %s, init %s)\n", pg.Chi2(),
-                boxplus::ToString(po.convention), init.c_str());
-    if (!quiet) {
-      // The line search reports its step length α where the trust region
-      // reports its radius.
-      const char* radius = so.method == boxplus::Method::kGaussNewtonLineSearch ? "alpha" : "radius";
-      so.on_iteration = [radius](const boxplus::IterationInfo& it) {
-        std::printf("iteration= %d\t chi2= %.10g\t time= %.6f\t cumTime= %.6f\t "
-                    "|grad|= %.3e\t |step|= %.3e\t %s= %.3e%s\n",
-                    it.iteration, 2.0 * it.cost, it.iteration_time_s, it.cumulative_time_s,
-                    it.gradient_max_norm, it.step_norm, radius, it.trust_region_radius,
-                    it.step_is_successful ? "" : "\t (rejected)");
-        std::fflush(stdout);
-        return true;
-      };
+    if (solver == "auto") so.method = boxplus::slam::DefaultMethod(pg->graph().dimension);
+    std::fprintf(stderr,
+                 "# %s: %zu vertices, %zu edges, %dD, gauge vertex %d, read %.3f s, "
+                 "build %.3f s\n",
+                 input.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
+                 pg->graph().dimension, pg->gauge_vertex(), report.read_s + report.init_s,
+                 report.build_s);
+    std::fprintf(stderr, "# initial chi2 %.10g (convention %s, init %s, solver %s)\n",
+                 pg->Chi2(), boxplus::ToString(load.graph.convention), init.c_str(),
+                 boxplus::MethodName(so.method).c_str());
+    if (!quiet) std::fprintf(progress, "%s\n", boxplus::ProgressHeader().c_str());
+    so.on_iteration = [quiet, progress](const boxplus::IterationInfo& it) {
+      if (!quiet) {
+        std::fprintf(progress, "%s\n", boxplus::FormatProgress(it).c_str());
+        std::fflush(progress);
+      }
+      return !g_interrupted.load();
+    };
+    const boxplus::SolveSummary s =
+        g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
+    if (full_report) std::fprintf(stderr, "%s\n", s.report.c_str());
+    std::fprintf(stderr, "# %s (%s)%s\n", boxplus::FormatSummary(s).c_str(),
+                 load.graph.robust == "none" ? "no robust kernel" : load.graph.robust.c_str(),
+                 s.message.empty() ? "" : ("; " + s.message).c_str());
+    std::fprintf(stderr, "# final chi2 g2o convention %.10g, log convention %.10g, sesync %.10g\n",
+                 pg->Chi2(boxplus::PoseErrorConvention::kG2o),
+                 pg->Chi2(boxplus::PoseErrorConvention::kLog),
+                 pg->Chi2(boxplus::PoseErrorConvention::kSESync));
+    std::fprintf(stderr, "# memory: peak RSS %.1f MB, %.1f MB before reading the input\n",
+                 MemoryMB("VmHWM"), rss_before);
+    if (graph_to_stdout) {
+      pg->WriteBack();
+      const std::string text = boxplus::io::FormatG2o(pg->graph());
+      std::fwrite(text.data(), 1, text.size(), stdout);
+      std::fflush(stdout);
+    } else if (!output.empty()) {
+      pg->Save(output);
+      std::fprintf(stderr, "# wrote %s\n", output.c_str());
     }
-    const boxplus::SolveSummary s = pg.Solve(so);
-    if (full_report) std::printf("%s\n", s.report.c_str());
-    std::printf("# %s after %d iterations, %.6f s: chi2 %.10g -> %.10g (%s); %s\n",
-                s.termination.c_str(), s.iterations, s.time_s, 2.0 * s.initial_cost,
-                2.0 * s.final_cost, robust == "none" ? "no robust kernel" : robust.c_str(),
-                s.message.c_str());
-    std::printf("# final chi2 g2o convention %.10g, log convention %.10g, sesync %.10g\n",
-                pg.Chi2(boxplus::PoseErrorConvention::kG2o),
-                pg.Chi2(boxplus::PoseErrorConvention::kLog),
-                pg.Chi2(boxplus::PoseErrorConvention::kSESync));
-    std::printf("# memory: peak RSS %.1f MB, %.1f MB before reading the input\n",
-                MemoryMB("VmHWM"), rss_before);
-    if (!output.empty()) {
-      pg.Save(output);
-      std::printf("# wrote %s\n", output.c_str());
+    if (g_interrupted) {
+      std::fprintf(stderr, "boxplus-g2o: interrupted: %s the last accepted estimate\n",
+                   output.empty() ? "not writing (no -o)" : "wrote");
+      return 130;
     }
     if (!s.usable) {
       std::fprintf(stderr, "boxplus-g2o: the solver failed: %s\n", s.message.c_str());

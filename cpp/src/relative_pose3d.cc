@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/errors.h"
+#include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds/so3.h"
 #include "boxplus/noise.h"
 
@@ -201,10 +202,9 @@ struct RelativePose3DFunctor {
 
 Eigen::Matrix<double, 7, 1> Normalized(const Eigen::Matrix<double, 7, 1>& z) {
   BOXPLUS_CHECK(z.allFinite(), "relative pose 3D: measurement must be finite");
-  const double n = z.tail<4>().norm();
-  BOXPLUS_CHECK(n > 1e-12, "relative pose 3D: measured quaternion has zero norm");
   Eigen::Matrix<double, 7, 1> out = z;
-  out.tail<4>() /= n;
+  BOXPLUS_CHECK(NormalizeQuaternion(z.data() + 3, out.data() + 3),
+                "relative pose 3D: measured quaternion has zero norm");
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 
 #include "boxplus/errors.h"
+#include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/noise.h"
 
 namespace boxplus {
@@ -60,10 +61,9 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vecto
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
     const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information) {
   BOXPLUS_CHECK(z.allFinite(), "relative pose 3D (SE-Sync): measurement must be finite");
-  const double n = z.tail<4>().norm();
-  BOXPLUS_CHECK(n > 1e-12, "relative pose 3D (SE-Sync): measured quaternion has zero norm");
   Eigen::Matrix<double, 7, 1> zn = z;
-  zn.tail<4>() /= n;
+  BOXPLUS_CHECK(NormalizeQuaternion(z.data() + 3, zn.data() + 3),
+                "relative pose 3D (SE-Sync): measured quaternion has zero norm");
   return std::make_shared<ceres::AutoDiffCostFunction<SESync3DFunctor, 12, 7, 7>>(
       new SESync3DFunctor{zn, SESyncPrecisionsOf(information)});
 }

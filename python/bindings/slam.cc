@@ -10,7 +10,7 @@
 #include "bindings.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/problem.h"
-#include "boxplus/slam/initialization.h"
+#include "boxplus/slam/load.h"
 #include "boxplus/slam/pose_graph.h"
 
 namespace py = pybind11;
@@ -92,48 +92,77 @@ void RegisterSlam(py::module_& m) {
       "The measured solver strategy for pose graphs of this dimension "
       "(boxplus::slam::DefaultMethod): 'dogleg' for 2D, 'lm' for 3D.");
 
-  py::class_<PoseGraph>(m, "PoseGraph", R"doc(
-A pose graph read from a g2o/TORO file, as a boxplus Problem.
+  py::class_<io::ReadReport>(m, "ReadReport", "What the g2o reader counted.")
+      .def_readonly("lines", &io::ReadReport::lines)
+      .def_readonly("unknown_skipped", &io::ReadReport::unknown_skipped)
+      .def_readonly("unknown_tags", &io::ReadReport::unknown_tags,
+                    "Skipped tag → count (bytes outside ASCII escaped as \\xNN).")
+      .def_readonly("repaired_information", &io::ReadReport::repaired_information)
+      .def_readonly("repaired_lines", &io::ReadReport::repaired_lines);
 
-Build it with ``boxplus.slam.load_g2o``. ``problem`` is the underlying
-``boxplus.Problem`` (extend it, fix variables, solve it); its lifetime is tied
-to this object.
+  py::class_<slam::LoadReport>(m, "LoadReport", R"doc(
+What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
+(``unknown_skipped``, ``unknown_tags``, ``repaired_information``,
+``repaired_lines``, ``lines``), its ``warnings`` ("" if none),
+``estimates_from_file`` (False: no VERTEX lines, initialised by spanning tree)
+and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
 )doc")
-      .def_static(
-          "load",
-          [](const std::string& path, const std::string& convention, const std::string& robust,
-             double robust_width, const std::string& init, bool skip_unknown,
-             bool repair_information) {
-            io::ReadOptions ro;
-            ro.skip_unknown_tags = skip_unknown;
-            ro.repair_information = repair_information;
-            io::ReadReport rep;
-            io::Graph g;
-            slam::PoseGraphOptions po;
-            po.convention = ParsePoseErrorConvention(convention);
-            po.robust = robust;
-            po.robust_width = robust_width;
-            const slam::InitMethod im = slam::ParseInitMethod(init);
-            {
-              py::gil_scoped_release release;
-              g = io::ReadG2o(path, ro, &rep);
-              slam::Initialize(&g, im);
-            }
-            py::dict report;
-            report["lines"] = rep.lines;
-            report["unknown_skipped"] = rep.unknown_skipped;
-            report["unknown_tags"] = rep.unknown_tags;
-            report["repaired_information"] = rep.repaired_information;
-            report["repaired_lines"] = rep.repaired_lines;
-            report["warnings"] = rep.Warnings(path);
-            report["estimates_from_file"] = g.estimates_from_file;
-            auto pg = std::make_unique<PoseGraph>(std::move(g), po);
-            return py::make_tuple(std::move(pg), report);
-          },
-          py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
-          py::arg("robust_width") = 1.0, py::arg("init") = "file",
-          py::arg("skip_unknown") = false, py::arg("repair_information") = false,
-          "Reads a file and builds the problem; returns (PoseGraph, report dict).")
+      .def_property_readonly("lines", [](const slam::LoadReport& r) { return r.read.lines; })
+      .def_property_readonly("unknown_skipped",
+                             [](const slam::LoadReport& r) { return r.read.unknown_skipped; })
+      .def_property_readonly("unknown_tags",
+                             [](const slam::LoadReport& r) { return r.read.unknown_tags; })
+      .def_property_readonly("repaired_information",
+                             [](const slam::LoadReport& r) { return r.read.repaired_information; })
+      .def_property_readonly("repaired_lines",
+                             [](const slam::LoadReport& r) { return r.read.repaired_lines; })
+      .def_readonly("warnings", &slam::LoadReport::warnings)
+      .def_readonly("estimates_from_file", &slam::LoadReport::estimates_from_file)
+      .def_readonly("read_s", &slam::LoadReport::read_s)
+      .def_readonly("init_s", &slam::LoadReport::init_s)
+      .def_readonly("build_s", &slam::LoadReport::build_s)
+      .def("__repr__", [](const slam::LoadReport& r) {
+        return "LoadReport(lines=" + std::to_string(r.read.lines) +
+               ", unknown_skipped=" + std::to_string(r.read.unknown_skipped) +
+               ", repaired_information=" + std::to_string(r.read.repaired_information) +
+               ", estimates_from_file=" + (r.estimates_from_file ? "True" : "False") + ")";
+      });
+
+  py::class_<PoseGraph>(m, "PoseGraph", R"doc(
+A pose graph read from a g2o/TORO file, as a boxplus Problem
+(boxplus::slam::PoseGraph; boxplus.slam.PoseGraph extends it).
+
+``PoseGraph(path, ...)`` reads, initialises and builds it in C++
+(boxplus::slam::LoadPoseGraph, the command line's path too); ``problem`` is the
+underlying ``boxplus.Problem`` (extend it, fix variables, solve it), its
+lifetime tied to this object; ``report`` the LoadReport.
+)doc")
+      .def(py::init([](const std::string& path, const std::string& convention,
+                       const std::string& robust, double robust_width, const std::string& init,
+                       bool skip_unknown, bool repair_information) {
+             slam::LoadOptions o;
+             o.read.skip_unknown_tags = skip_unknown;
+             o.read.repair_information = repair_information;
+             o.graph.convention = ParsePoseErrorConvention(convention);
+             o.graph.robust = robust;
+             o.graph.robust_width = robust_width;
+             o.init = slam::ParseInitMethod(init);
+             slam::LoadReport report;
+             std::unique_ptr<PoseGraph> pg;
+             {
+               py::gil_scoped_release release;
+               pg = slam::LoadPoseGraph(path, o, &report);
+             }
+             pg->set_load_report(std::move(report));
+             return pg;
+           }),
+           py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
+           py::arg("robust_width") = 1.0, py::arg("init") = "file",
+           py::arg("skip_unknown") = false, py::arg("repair_information") = false,
+           "Reads a file and builds the problem (raises boxplus.ParseError naming file:line).")
+      .def_property_readonly("report", &PoseGraph::load_report,
+                             py::return_value_policy::reference_internal,
+                             "The LoadReport of the file.")
       .def_property_readonly("problem", &PoseGraph::problem,
                              py::return_value_policy::reference_internal,
                              "The boxplus.Problem (owned by this graph).")
@@ -160,15 +189,11 @@ to this object.
             v.id = id;
             v.kind = ParseVertexKind(kind);
             v.estimate = estimate;
-            if (v.kind == io::VertexKind::kSE3 && estimate.size() == 7) {
-              const double n = estimate.tail<4>().norm();
-              if (!(n > 1e-12)) throw py::value_error("add_vertex: zero quaternion");
-              v.estimate.tail<4>() /= n;
-            }
             return pg.AddVertex(v);
           },
           py::arg("vertex_id"), py::arg("kind"), py::arg("estimate"),
-          "Adds a vertex ('SE2', 'SE3', 'XY', 'XYZ'); returns its variable id.")
+          "Adds a vertex ('SE2', 'SE3', 'XY', 'XYZ'); returns its variable id. The call "
+          "is checked completely first: one that raises leaves the graph unchanged.")
       .def(
           "add_edge",
           [](PoseGraph& pg, const std::string& kind, int from, int to,
@@ -186,7 +211,8 @@ to this object.
 Adds an edge to the graph (saved with it) and the problem; returns the
 measurement id. kind: 'SE2', 'SE3' (measurement [t, qx, qy, qz, qw]), 'SE2_XY',
 'SE3_XYZ', 'SE2_BEARING_RANGE' ([bearing, range]). information: the full
-symmetric information matrix in the error's order.
+symmetric information matrix in the error's order. The call is checked
+completely first: one that raises leaves the graph unchanged.
 )doc")
       .def(
           "chi2",

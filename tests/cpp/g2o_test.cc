@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+
 #include "boxplus/errors.h"
 #include "boxplus/io/g2o.h"
 
@@ -170,6 +173,89 @@ TEST(G2oRead, FileWithoutVerticesCreatesThem) {
   EXPECT_EQ(g.edges.size(), 1172u);
   EXPECT_FALSE(g.vertices[3].has_estimate);
   EXPECT_EQ(g.order.front().type, Graph::RecordType::kVertex);
+}
+
+// Issue 17, item 7: q / ‖q‖ must not overflow for huge components.
+TEST(G2oRead, HugeQuaternionComponentsNormaliseToTheRotationTheyMean) {
+  const Graph g = ParseG2o("VERTEX_SE3:QUAT 1 0 0 0 1e200 0 0 0\n", "test.g2o");
+  EXPECT_DOUBLE_EQ(g.vertices[0].estimate[3], 1.0);
+  EXPECT_DOUBLE_EQ(g.vertices[0].estimate.tail<4>().norm(), 1.0);
+  const Graph h = ParseG2o("VERTEX_SE3:QUAT 1 0 0 0 1e-200 0 0 1e-200\n", "test.g2o");
+  EXPECT_NEAR(h.vertices[0].estimate[6], std::sqrt(0.5), 1e-15);
+}
+
+// Issue 17, item 8: TORO Euler angles at pitch ±π/2 are written back as the
+// same rotation (the gimbal lock made yaw the angle of two rounding errors).
+TEST(G2oWrite, ToroEulerAnglesRoundTripAtTheGimbalLock) {
+  for (const double pitch : {M_PI / 2, -M_PI / 2, M_PI / 2 - 1e-7, 0.3}) {
+    char line[200];
+    std::snprintf(line, sizeof line, "VERTEX3 0 1 2 3 0.3 %.17g 0.5\n", pitch);
+    const Graph g = ParseG2o(line, "test.graph");
+    const Graph h = ParseG2o(FormatG2o(g), "test.graph");
+    const Eigen::Vector4d a = g.vertices[0].estimate.tail<4>();
+    const Eigen::Vector4d b = h.vertices[0].estimate.tail<4>();
+    EXPECT_NEAR(std::abs(a.dot(b)), 1.0, 1e-14) << "pitch " << pitch;
+  }
+}
+
+// Issue 17, items 9, 10, 14.
+TEST(G2oRead, MessagesEscapeBytesAndNameTheLine) {
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 \xff\xfe 0 0\n"),
+              HasSubstr("test.g2o:1: field 3 ('\\xff\\xfe') is not a finite number"));
+  EXPECT_THAT(ParseErrorOf("JUNK\xc3( 1\n"), HasSubstr("test.g2o:1: unknown tag 'JUNK\\xc3('"));
+  ReadOptions skip;
+  skip.skip_unknown_tags = true;
+  ReadReport rep;
+  ParseG2o("JUNK\xc3( 1\n", "test.g2o", skip, &rep);
+  EXPECT_EQ(rep.unknown_tags.count("JUNK\\xc3("), 1u);
+  ReadOptions repair;
+  repair.repair_information = true;
+  EXPECT_THAT(ParseErrorOf(std::string(kTwo) + "EDGE_SE2 0 1 1 0 0 0 0 0 0 0 0\n", repair),
+              HasSubstr("test.g2o:3: EDGE_SE2: information matrix is zero or not finite"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 0 0 0\nVERTEX_XY 1 0 0\n"
+                           "EDGE_SE2_BEARING_RANGE 0 1 0.5 -1 1 0 1\n"),
+              HasSubstr("test.g2o:3: EDGE_SE2_BEARING_RANGE: negative range"));
+  EXPECT_THAT(ParseErrorOf("VERTEX_SE2 0 0x10 0 0\n"), HasSubstr("is not a finite number"));
+  const Graph g = ParseG2o("VERTEX_SE2 0 0 0 1e16\n", "test.g2o");
+  EXPECT_GE(g.vertices[0].estimate[2], -M_PI);
+  EXPECT_LT(g.vertices[0].estimate[2], M_PI);
+  try {
+    ReadG2o(kData);
+    ADD_FAILURE() << "a directory was read";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("is a directory"));
+  }
+}
+
+// Issue 17, item 3: a failed AddVertex/AddEdge leaves the graph unchanged.
+TEST(G2oGraph, FailedAddsChangeNothing) {
+  Graph g = ParseG2o(kTwo, "test.g2o");
+  const std::string before = FormatG2o(g);
+  Vertex v;
+  v.id = 5;
+  v.kind = VertexKind::kSE2;
+  v.estimate = Eigen::Vector3d(0, NAN, 0);
+  EXPECT_THROW(g.AddVertex(v), Error);
+  v.kind = VertexKind::kSE3;
+  v.estimate = (Eigen::VectorXd(7) << 0, 0, 0, 0, 0, 0, 1).finished();
+  EXPECT_THROW(g.AddVertex(v), Error);  // a 3D pose in a 2D graph
+  Edge e;
+  e.kind = EdgeKind::kSE3;
+  e.from = 0;
+  e.to = 1;
+  e.measurement = v.estimate;
+  e.information = Eigen::MatrixXd::Identity(6, 6);
+  EXPECT_THROW(g.AddEdge(e), Error);  // an SE3 edge between SE2 vertices
+  e.kind = EdgeKind::kSE2;
+  e.measurement = Eigen::Vector3d(1, 0, 0);
+  e.information = -Eigen::MatrixXd::Identity(3, 3);
+  EXPECT_THROW(g.AddEdge(e), Error);
+  e.to = 9;
+  e.information = Eigen::MatrixXd::Identity(3, 3);
+  EXPECT_THROW(g.AddEdge(e), IndexError);
+  EXPECT_EQ(FormatG2o(g), before);
+  EXPECT_EQ(g.vertices.size(), 2u);
+  EXPECT_EQ(g.order.size(), 2u);
 }
 
 }  // namespace

@@ -20,10 +20,15 @@
 // 3D rotations are Euler angles R = Rz(yaw)·Ry(pitch)·Rx(roll); their
 // information is used as the information of the rotation part as is.
 //
-// Quaternions are stored [x, y, z, w] and normalised when read; a quaternion
-// of zero norm is an error. Every malformed line (unknown tag, too few or too
-// many numbers, a non-numeric field, an edge to a missing vertex, a duplicate
-// vertex id, an information matrix that is not positive definite) throws
+// Quaternions are stored [x, y, z, w] and normalised when read (scaled by the
+// largest component first: [0, 0, 0, 1e200] is the identity); a quaternion of
+// zero norm is an error. SE2 angles are wrapped into [−π, π) exactly (1e16
+// too). TORO Euler angles at pitch ±π/2 are written back as the same rotation.
+// Bytes outside printable ASCII are quoted in messages as \xNN.
+//
+// Every malformed line (unknown tag, too few or too many numbers, a
+// non-numeric field, an edge to a missing vertex, a duplicate vertex id, an
+// information matrix that is not positive definite, a negative range) throws
 // boxplus::ParseError naming the file and the 1-based line. Two switches relax
 // this explicitly, never silently: `skip_unknown_tags` skips unknown tags and
 // counts them in the report, `repair_information` replaces an indefinite
@@ -101,12 +106,21 @@ struct Graph {
   std::unordered_map<int, int> index_of;  // vertex id → index in vertices
   int dimension = 0;                      // 2 or 3 (of the poses), 0 if none
   bool estimates_from_file = true;        // false if vertices were created from edges
+  std::string name;                       // the file it was read from (for messages)
 
   // Index into `vertices`; throws boxplus::IndexError for an unknown id.
   int VertexIndex(int id) const;
   // Ids of every FIX line, in order.
   std::vector<int> FixedIds() const;
-  // Appends a vertex / edge (in memory; written at the end of the file).
+  // Throw boxplus::Error (IndexError for an unknown id) unless the vertex /
+  // edge can be added: a new id, sizes of its kind, finite values, unit
+  // quaternions, a pose of the graph's dimension; an edge between existing
+  // vertices of the kinds it connects, a non-negative range, a positive-
+  // definite information. They never change the graph.
+  void CheckVertex(const Vertex& v) const;
+  void CheckEdge(const Edge& e) const;
+  // Appends a vertex / edge (in memory; written at the end of the file), after
+  // CheckVertex / CheckEdge: a failed call leaves the graph unchanged.
   int AddVertex(const Vertex& v);
   int AddEdge(const Edge& e);
 };
@@ -140,10 +154,18 @@ Graph ParseG2o(const std::string& text, const std::string& name,
 void WriteG2o(const std::string& path, const Graph& graph);
 std::string FormatG2o(const Graph& graph);
 
+// Whether an edge of this kind connects vertices of kinds a → b.
+bool ConnectsKinds(EdgeKind edge, VertexKind a, VertexKind b);
+
+// Text with every byte outside printable ASCII written as \xNN: what error
+// messages quote from a file (which may hold any bytes) stays valid text.
+std::string Escaped(const std::string& text);
+
 // Checks that `info` is symmetric positive definite (Cholesky succeeds).
 bool IsPositiveDefinite(const Eigen::MatrixXd& info);
 // Nearest symmetric positive-definite matrix in the Frobenius norm with
-// eigenvalues at least 1e-9·max|λ|. Throws if `info` is zero.
+// eigenvalues at least 1e-9·max|λ|. Throws if `info` is zero (CanRepair).
+bool CanRepair(const Eigen::MatrixXd& info);
 Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& info);
 
 }  // namespace boxplus::io

@@ -31,6 +31,7 @@
 #include "boxplus/factors/relative_pose3d.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/problem.h"
+#include "boxplus/slam/load_report.h"
 
 namespace boxplus::slam {
 
@@ -73,6 +74,9 @@ class PoseGraph {
   explicit PoseGraph(io::Graph graph, const PoseGraphOptions& options = {});
 
   Problem& problem() { return problem_; }
+  // What LoadPoseGraph reported (empty for a graph built from an io::Graph).
+  const LoadReport& load_report() const { return load_report_; }
+  void set_load_report(LoadReport report) { load_report_ = std::move(report); }
   const io::Graph& graph() const { return graph_; }
   const PoseGraphOptions& options() const { return options_; }
 
@@ -84,7 +88,11 @@ class PoseGraph {
   int gauge_vertex() const { return gauge_vertex_; }
   void Fix(int vertex_id, bool fixed = true);
 
-  // Adds a vertex / edge to both the graph (saved with it) and the problem.
+  // Adds a vertex / edge to both the graph (saved with it) and the problem;
+  // returns the variable / measurement id. SE3 quaternions are normalised
+  // (overflow-safe) and SE2 angles wrapped first; then everything is checked
+  // (io::Graph::CheckVertex/CheckEdge) before anything changes, so a call
+  // that throws leaves the graph and the problem unchanged.
   int AddVertex(const io::Vertex& vertex);
   int AddEdge(const io::Edge& edge);
 
@@ -107,6 +115,7 @@ class PoseGraph {
   std::vector<int> var_of_vertex_;  // index in graph_.vertices → variable id
   std::shared_ptr<ceres::LossFunction> loss_;
   int gauge_vertex_ = -1;
+  LoadReport load_report_;
 };
 
 }  // namespace boxplus::slam

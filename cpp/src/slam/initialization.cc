@@ -10,7 +10,8 @@
 #include <Eigen/SparseCore>
 
 #include "boxplus/errors.h"
-#include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/manifolds/se2.h"
+#include "boxplus/manifolds/se3.h"
 
 namespace boxplus::slam {
 namespace {
@@ -22,41 +23,53 @@ using io::VertexKind;
 bool IsPose(VertexKind k) { return k == VertexKind::kSE2 || k == VertexKind::kSE3; }
 bool IsPosePose(EdgeKind k) { return k == EdgeKind::kSE2 || k == EdgeKind::kSE3; }
 
+// The file the graph came from, as a prefix of messages ("" if none).
+std::string Where(const Graph& g) { return g.name.empty() ? "" : io::Escaped(g.name) + ": "; }
+// "file:line: " of a record read from the file.
+std::string Where(const Graph& g, int line) {
+  if (g.name.empty() || line <= 0) return Where(g);
+  return io::Escaped(g.name) + ":" + std::to_string(line) + ": ";
+}
+
+// The root (gauge) pose: root_id, else the first FIX id that is a pose (a FIX
+// may name a landmark, which cannot root a tree of poses), else the first
+// pose of the file.
 int RootIndex(const Graph& g, int root_id) {
-  if (root_id >= 0) return g.VertexIndex(root_id);
-  const auto fixed = g.FixedIds();
-  if (!fixed.empty()) return g.VertexIndex(fixed.front());
+  if (root_id >= 0) {
+    const int r = g.VertexIndex(root_id);
+    BOXPLUS_CHECK(IsPose(g.vertices[r].kind), Where(g), "initialisation: root vertex ", root_id,
+                  " is not a pose");
+    return r;
+  }
+  for (int id : g.FixedIds()) {
+    const int r = g.VertexIndex(id);
+    if (IsPose(g.vertices[r].kind)) return r;
+  }
   for (const auto& rec : g.order) {
     if (rec.type == Graph::RecordType::kVertex && IsPose(g.vertices[rec.index].kind)) {
       return rec.index;
     }
   }
-  throw Error("the graph has no pose vertex");
+  throw Error(Where(g) + "the graph has no pose vertex");
 }
 
-// Rigid transform in homogeneous form (2D: 3×3, 3D: 4×4) of an ambient vector.
+// Rigid transform of an ambient pose vector, homogeneous; 2D poses use the
+// [x, y] rows and columns of the 4×4 matrix (as SE2::transform's 3×3).
 Eigen::Matrix4d ToMatrix(VertexKind kind, const Eigen::VectorXd& x) {
+  if (kind == VertexKind::kSE3) return SE3::FromAmbient(x.data()).transform();
+  const Eigen::Matrix3d M = SE2::FromAmbient(x.data()).transform();
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-  if (kind == VertexKind::kSE2) {
-    const double c = std::cos(x[2]), s = std::sin(x[2]);
-    T.topLeftCorner<2, 2>() << c, -s, s, c;
-    T(0, 3) = x[0];
-    T(1, 3) = x[1];
-  } else {
-    T.topLeftCorner<3, 3>() = Eigen::Quaterniond(x[6], x[3], x[4], x[5]).normalized().toRotationMatrix();
-    T.topRightCorner<3, 1>() = x.head<3>();
-  }
+  T.topLeftCorner<2, 2>() = M.topLeftCorner<2, 2>();
+  T.topRightCorner<2, 1>() = M.topRightCorner<2, 1>();
   return T;
 }
 
 Eigen::VectorXd FromMatrix(VertexKind kind, const Eigen::Matrix4d& T) {
-  if (kind == VertexKind::kSE2) {
-    return Eigen::Vector3d(T(0, 3), T(1, 3), std::atan2(T(1, 0), T(0, 0)));
-  }
-  Eigen::VectorXd x(7);
-  x.head<3>() = T.topRightCorner<3, 1>();
-  x.tail<4>() = Eigen::Quaterniond(Eigen::Matrix3d(T.topLeftCorner<3, 3>())).normalized().coeffs();
-  return x;
+  if (kind == VertexKind::kSE3) return SE3::FromMatrix(T).ambient();
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M.topLeftCorner<2, 2>() = T.topLeftCorner<2, 2>();
+  M.topRightCorner<2, 1>() = T.topRightCorner<2, 1>();
+  return SE2::FromMatrix(M).ambient();
 }
 
 Eigen::Matrix4d EdgeMatrix(const io::Edge& e) {
@@ -115,8 +128,8 @@ std::vector<char> CheckConnected(const Graph& g, int root) {
     }
   }
   for (size_t i = 0; i < g.vertices.size(); ++i) {
-    BOXPLUS_CHECK(seen[i] || !IsPose(g.vertices[i].kind), "initialisation: pose vertex ",
-                  g.vertices[i].id, " is not connected to the root vertex ",
+    BOXPLUS_CHECK(seen[i] || !IsPose(g.vertices[i].kind), Where(g, g.vertices[i].line),
+                  "initialisation: pose vertex ", g.vertices[i].id, " is not connected to the root vertex ",
                   g.vertices[root].id, " by pose-pose edges");
   }
   return seen;
@@ -223,8 +236,10 @@ void InitializeChordal(Graph* g, int root_id) {
   Eigen::SparseMatrix<double> H(n * d, n * d);
   H.setFromTriplets(trip.begin(), trip.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
-  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, "chordal initialisation: singular system");
+  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, Where(*g),
+                "chordal initialisation: singular rotation system");
   const Eigen::MatrixXd X = ldlt.solve(rhs);
+  BOXPLUS_CHECK(X.allFinite(), Where(*g), "chordal initialisation: singular rotation system");
   std::vector<Eigen::MatrixXd> R(g->vertices.size());
   R[root] = R_root;
   for (size_t i = 0; i < g->vertices.size(); ++i) {
@@ -266,8 +281,10 @@ void InitializeChordal(Graph* g, int root_id) {
   Eigen::SparseMatrix<double> L(n, n);
   L.setFromTriplets(trip.begin(), trip.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> lldlt(L);
-  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, "chordal initialisation: singular translation system");
+  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, Where(*g),
+                "chordal initialisation: singular translation system");
   const Eigen::MatrixXd t = lldlt.solve(b);
+  BOXPLUS_CHECK(t.allFinite(), Where(*g), "chordal initialisation: singular translation system");
   std::vector<char> done(g->vertices.size(), 0);
   for (size_t i = 0; i < g->vertices.size(); ++i) {
     if (unk[i] < 0) {

@@ -52,7 +52,7 @@ def read_g2o_arrays(path):
             elif t[0] == "VERTEX_SE3:QUAT":
                 dim = 3
                 v = np.array([float(x) for x in t[2:9]])
-                v[3:] /= np.linalg.norm(v[3:])
+                v[3:] = _unit(v[3:])
                 verts[int(t[1])] = v
                 order.append(int(t[1]))
             elif t[0] == "EDGE_SE2":
@@ -79,10 +79,19 @@ def read_g2o_arrays(path):
         upper[iu] = vals[nz:]
         info[k] = upper + np.triu(upper, 1).T
     if dim == 3:
-        z[:, 3:] /= np.linalg.norm(z[:, 3:], axis=1, keepdims=True)
+        z[:, 3:] = _unit(z[:, 3:])
     edge_index = np.array([[index[a], index[b]] for a, b, _ in edges], dtype=int).reshape(-1, 2)
     return {"dim": dim, "ids": order, "poses": poses, "edge_index": edge_index, "z": z,
             "info": info}
+
+
+def _unit(q):
+    """q / ‖q‖ along the last axis, scaled by the largest |component| first so
+    that huge components (1e200) do not overflow the norm."""
+    q = np.asarray(q, float)
+    s = np.max(np.abs(q), axis=-1, keepdims=True)
+    q = q / s
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
 def _qmul(a, b):

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -14,7 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/errors.h"
-#include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/factors/pose/unit_quaternion.h"
 
 namespace boxplus::io {
 
@@ -55,11 +56,87 @@ std::vector<int> Graph::FixedIds() const {
   return out;
 }
 
-int Graph::AddVertex(const Vertex& v) {
+namespace {
+
+int PoseDimension(VertexKind k) {
+  return k == VertexKind::kSE2 ? 2 : k == VertexKind::kSE3 ? 3 : 0;
+}
+
+}  // namespace
+
+std::string Escaped(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      out += buf;
+    }
+  }
+  return out;
+}
+
+void Graph::CheckVertex(const Vertex& v) const {
   BOXPLUS_CHECK(index_of.count(v.id) == 0, "vertex id ", v.id, " exists already");
   BOXPLUS_CHECK(v.estimate.size() == AmbientSize(v.kind), "vertex ", v.id,
                 ": estimate needs ", AmbientSize(v.kind), " numbers, got ",
                 v.estimate.size());
+  BOXPLUS_CHECK(v.estimate.allFinite(), "vertex ", v.id, ": estimate is not finite");
+  if (v.kind == VertexKind::kSE3) {
+    const double n = v.estimate.tail<4>().norm();
+    BOXPLUS_CHECK(std::abs(n - 1.0) < 1e-9, "vertex ", v.id,
+                  ": quaternion is not unit (norm ", n, "); normalise it first");
+  }
+  const int d = PoseDimension(v.kind);
+  BOXPLUS_CHECK(!d || !dimension || d == dimension, "vertex ", v.id, ": a ", d,
+                "D pose in a ", dimension, "D graph");
+}
+
+void Graph::CheckEdge(const Edge& e) const {
+  BOXPLUS_CHECK_INDEX(index_of.count(e.from) && index_of.count(e.to),
+                      "edge ", e.from, " → ", e.to, ": no such vertex");
+  BOXPLUS_CHECK(e.from != e.to, "edge ", e.from, " → ", e.to, ": an edge from a vertex to itself");
+  const VertexKind a = vertices[index_of.at(e.from)].kind;
+  const VertexKind b = vertices[index_of.at(e.to)].kind;
+  BOXPLUS_CHECK(ConnectsKinds(e.kind, a, b), "edge ", e.from, " → ", e.to,
+                ": connects vertices of the wrong types");
+  const int n = ErrorSize(e.kind);
+  BOXPLUS_CHECK(e.measurement.size() == MeasurementSize(e.kind) &&
+                    e.information.rows() == n && e.information.cols() == n,
+                "edge ", e.from, " → ", e.to, ": measurement needs ", MeasurementSize(e.kind),
+                " numbers and information ", n, "×", n, ", got ", e.measurement.size(), " and ",
+                e.information.rows(), "×", e.information.cols());
+  BOXPLUS_CHECK(e.measurement.allFinite(), "edge ", e.from, " → ", e.to,
+                ": measurement is not finite");
+  if (e.kind == EdgeKind::kSE3) {
+    const double q = e.measurement.tail<4>().norm();
+    BOXPLUS_CHECK(std::abs(q - 1.0) < 1e-9, "edge ", e.from, " → ", e.to,
+                  ": quaternion is not unit (norm ", q, "); normalise it first");
+  }
+  if (e.kind == EdgeKind::kSE2BearingRange) {
+    BOXPLUS_CHECK(e.measurement[1] >= 0.0, "edge ", e.from, " → ", e.to,
+                  ": negative range ", e.measurement[1]);
+  }
+  BOXPLUS_CHECK(IsPositiveDefinite(e.information), "edge ", e.from, " → ", e.to,
+                ": information matrix is not positive definite");
+}
+
+bool ConnectsKinds(EdgeKind e, VertexKind a, VertexKind b) {
+  switch (e) {
+    case EdgeKind::kSE2: return a == VertexKind::kSE2 && b == VertexKind::kSE2;
+    case EdgeKind::kSE3: return a == VertexKind::kSE3 && b == VertexKind::kSE3;
+    case EdgeKind::kSE2Point2:
+    case EdgeKind::kSE2BearingRange: return a == VertexKind::kSE2 && b == VertexKind::kPoint2;
+    case EdgeKind::kSE3Point3: return a == VertexKind::kSE3 && b == VertexKind::kPoint3;
+  }
+  return false;
+}
+
+int Graph::AddVertex(const Vertex& v) {
+  CheckVertex(v);
   const int idx = static_cast<int>(vertices.size());
   vertices.push_back(v);
   index_of[v.id] = idx;
@@ -70,14 +147,7 @@ int Graph::AddVertex(const Vertex& v) {
 }
 
 int Graph::AddEdge(const Edge& e) {
-  BOXPLUS_CHECK_INDEX(index_of.count(e.from) && index_of.count(e.to),
-                      "edge ", e.from, " → ", e.to, ": no such vertex");
-  const int n = ErrorSize(e.kind);
-  BOXPLUS_CHECK(e.measurement.size() == MeasurementSize(e.kind) &&
-                    e.information.rows() == n && e.information.cols() == n,
-                "edge ", e.from, " → ", e.to, ": wrong measurement or information size");
-  BOXPLUS_CHECK(IsPositiveDefinite(e.information), "edge ", e.from, " → ", e.to,
-                ": information matrix is not positive definite");
+  CheckEdge(e);
   const int idx = static_cast<int>(edges.size());
   edges.push_back(e);
   order.push_back({RecordType::kEdge, idx});
@@ -87,7 +157,7 @@ int Graph::AddEdge(const Edge& e) {
 std::string ReadReport::Warnings(const std::string& path) const {
   std::ostringstream out;
   if (unknown_skipped > 0) {
-    out << path << ": warning: skipped " << unknown_skipped
+    out << Escaped(path) << ": warning: skipped " << unknown_skipped
         << " line(s) with unknown tags (";
     bool first = true;
     for (const auto& [tag, n] : unknown_tags) {
@@ -97,7 +167,7 @@ std::string ReadReport::Warnings(const std::string& path) const {
     out << ")\n";
   }
   if (repaired_information > 0) {
-    out << path << ": warning: replaced " << repaired_information
+    out << Escaped(path) << ": warning: replaced " << repaired_information
         << " information matrix(es) that were not positive definite by the "
            "nearest positive-definite matrix (first at line "
         << repaired_lines.front() << ")\n";
@@ -111,6 +181,10 @@ bool IsPositiveDefinite(const Eigen::MatrixXd& info) {
   if (llt.info() != Eigen::Success) return false;
   const Eigen::VectorXd d = llt.matrixLLT().diagonal();
   return d.minCoeff() > 0.0;
+}
+
+bool CanRepair(const Eigen::MatrixXd& info) {
+  return info.allFinite() && info.rows() == info.cols() && info.cwiseAbs().maxCoeff() > 0.0;
 }
 
 Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& info) {
@@ -129,6 +203,9 @@ namespace {
 struct Fields {
   std::vector<std::pair<const char*, size_t>> f;
   std::string str(size_t i) const { return std::string(f[i].first, f[i].second); }
+  // The field as it may be quoted in a message (bytes outside printable ASCII
+  // escaped as \xNN: a message is text, the file may not be).
+  std::string quoted(size_t i) const { return Escaped(str(i)); }
 };
 
 void Split(const char* begin, const char* end, Fields* out) {
@@ -154,11 +231,11 @@ class LineParser {
   void ExpectCount(size_t numbers, const char* layout) const {
     const size_t have = fields_.f.size() - 1;
     if (have < numbers) {
-      Fail(fields_.str(0) + ": too few numbers (" + std::to_string(have) + ", expected " +
+      Fail(fields_.quoted(0) + ": too few numbers (" + std::to_string(have) + ", expected " +
            std::to_string(numbers) + ": " + layout + ")");
     }
     if (have > numbers) {
-      Fail(fields_.str(0) + ": too many numbers (" + std::to_string(have) + ", expected " +
+      Fail(fields_.quoted(0) + ": too many numbers (" + std::to_string(have) + ", expected " +
            std::to_string(numbers) + ": " + layout + ")");
     }
   }
@@ -166,6 +243,9 @@ class LineParser {
     char buf[64];
     const auto& [s, n] = fields_.f[i];
     if (n == 0 || n >= sizeof(buf)) Bad(i);
+    // Decimal only: strtod would also take C99 hex ("0x10"), which no other
+    // g2o reader does.
+    if (std::find_if(s, s + n, [](char c) { return c == 'x' || c == 'X'; }) != s + n) Bad(i);
     std::copy(s, s + n, buf);
     buf[n] = '\0';
     char* end = nullptr;
@@ -177,7 +257,7 @@ class LineParser {
   int Id(size_t i) const {
     const double v = Number(i);
     if (v != std::floor(v) || std::abs(v) > 2e9) {
-      Fail("field " + std::to_string(i + 1) + " ('" + fields_.str(i) +
+      Fail("field " + std::to_string(i + 1) + " ('" + fields_.quoted(i) +
            "') is not an integer id");
     }
     return static_cast<int>(v);
@@ -196,14 +276,15 @@ class LineParser {
   Eigen::Vector4d Quaternion(size_t first) const {
     Eigen::Vector4d q(Number(first), Number(first + 1), Number(first + 2),
                       Number(first + 3));
-    const double n = q.norm();
-    if (!(n > 1e-12)) Fail(fields_.str(0) + ": quaternion has zero norm");
-    return q / n;
+    if (!NormalizeQuaternion(q.data(), q.data())) {
+      Fail(fields_.quoted(0) + ": quaternion has zero norm");
+    }
+    return q;
   }
 
  private:
   [[noreturn]] void Bad(size_t i) const {
-    Fail("field " + std::to_string(i + 1) + " ('" + fields_.str(i) +
+    Fail("field " + std::to_string(i + 1) + " ('" + fields_.quoted(i) +
          "') is not a finite number");
   }
   const std::string& file_;
@@ -218,13 +299,29 @@ Eigen::Vector4d QuatFromEuler(double roll, double pitch, double yaw) {
   return q.coeffs();
 }
 
+// Inverse of QuatFromEuler. With R = Rz(y)·Ry(p)·Rx(r) (c·, s· of the angles):
+//   R20 = −sp, R21 = cp·sr, R22 = cp·cr, R10 = sy·cp, R00 = cy·cp, and exactly
+//   R01 − R12 = (1 + sp)·sin(r − y),  R11 + R02 = (1 + sp)·cos(r − y),
+//   R01 + R12 = (sp − 1)·sin(r + y),  R11 − R02 = (1 − sp)·cos(r + y).
+// Near pitch ±π/2 (gimbal lock) cp → 0 and yaw = atan2(R10, R00) is the
+// angle of two rounding errors (0.2 rad off at ±π/2 exactly), so yaw comes
+// from r ∓ y instead, which the other entries hold to full precision: any
+// roll from atan2(R21, R22) (0 when cp = 0) then gives the same rotation.
 Eigen::Vector3d EulerFromQuat(const Eigen::VectorXd& xyzw) {
   const Eigen::Matrix3d R =
       Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]).toRotationMatrix();
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
-  const double pitch = std::atan2(-R(2, 0), std::hypot(R(2, 1), R(2, 2)));
-  const double roll = std::atan2(R(2, 1), R(2, 2));
-  return {roll, pitch, yaw};
+  const double cp = std::hypot(R(2, 1), R(2, 2));
+  const double pitch = std::atan2(-R(2, 0), cp);
+  const double roll = cp > 0.0 ? std::atan2(R(2, 1), R(2, 2)) : 0.0;
+  double yaw;
+  if (cp > 0.1) {
+    yaw = std::atan2(R(1, 0), R(0, 0));
+  } else if (pitch > 0) {
+    yaw = roll - std::atan2(R(0, 1) - R(1, 2), R(1, 1) + R(0, 2));
+  } else {
+    yaw = std::atan2(-(R(0, 1) + R(1, 2)), R(1, 1) - R(0, 2)) - roll;
+  }
+  return {roll, pitch, WrapAngleExact(yaw)};
 }
 
 // TORO EDGE2 stores I11 I12 I22 I33 I13 I23.
@@ -245,6 +342,7 @@ Graph ParseG2o(const std::string& text, const std::string& name,
   ReadReport& rep = report ? *report : local;
   rep = ReadReport();
   Graph g;
+  g.name = name;
   bool any_vertex_line = false;
   std::vector<int> fix_lines;
   Fields fields;
@@ -277,16 +375,26 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       if (pose_dim && g.dimension && g.dimension != pose_dim) {
         lp.Fail("mixes 2D and 3D poses");
       }
-      g.AddVertex(v);
+      try {
+        g.AddVertex(v);
+      } catch (const Error& e) {
+        lp.Fail(e.what());
+      }
       any_vertex_line = true;
     };
     auto add_edge = [&](EdgeKind kind, int from, int to, Eigen::VectorXd z,
                         Eigen::MatrixXd info, bool toro, int param = 0) {
       if (from == to) lp.Fail(tag + ": an edge from vertex " + std::to_string(from) + " to itself");
+      if (kind == EdgeKind::kSE2BearingRange && !(z[1] >= 0.0)) {
+        lp.Fail(tag + ": negative range " + std::to_string(z[1]));
+      }
       if (!IsPositiveDefinite(info)) {
         if (!options.repair_information) {
           lp.Fail(tag + ": information matrix is not positive definite (use the repair "
                         "option to replace it by the nearest positive-definite matrix)");
+        }
+        if (!CanRepair(info)) {
+          lp.Fail(tag + ": information matrix is zero or not finite: cannot be repaired");
         }
         info = NearestPositiveDefinite(info);
         ++rep.repaired_information;
@@ -311,7 +419,7 @@ Graph ParseG2o(const std::string& text, const std::string& name,
     if (tag == "VERTEX_SE2" || tag == "VERTEX2") {
       lp.ExpectCount(4, "id x y theta");
       add_vertex(VertexKind::kSE2,
-                 Eigen::Vector3d(lp.Number(2), lp.Number(3), WrapAngle(lp.Number(4))),
+                 Eigen::Vector3d(lp.Number(2), lp.Number(3), WrapAngleExact(lp.Number(4))),
                  tag == "VERTEX2");
     } else if (tag == "VERTEX_SE3:QUAT") {
       lp.ExpectCount(8, "id x y z qx qy qz qw");
@@ -385,9 +493,9 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       g.order.push_back({Graph::RecordType::kParam, static_cast<int>(g.params.size()) - 1});
     } else if (options.skip_unknown_tags) {
       ++rep.unknown_skipped;
-      ++rep.unknown_tags[tag];
+      ++rep.unknown_tags[Escaped(tag)];
     } else {
-      lp.Fail("unknown tag '" + tag + "' (skip unknown tags explicitly to ignore it)");
+      lp.Fail("unknown tag '" + Escaped(tag) + "' (skip unknown tags explicitly to ignore it)");
     }
   }
   rep.lines = line;
@@ -435,17 +543,7 @@ Graph ParseG2o(const std::string& text, const std::string& name,
     }
     const VertexKind a = g.vertices[g.index_of[e.from]].kind;
     const VertexKind b = g.vertices[g.index_of[e.to]].kind;
-    bool ok = false;
-    switch (e.kind) {
-      case EdgeKind::kSE2: ok = a == VertexKind::kSE2 && b == VertexKind::kSE2; break;
-      case EdgeKind::kSE3: ok = a == VertexKind::kSE3 && b == VertexKind::kSE3; break;
-      case EdgeKind::kSE2Point2:
-      case EdgeKind::kSE2BearingRange:
-        ok = a == VertexKind::kSE2 && b == VertexKind::kPoint2;
-        break;
-      case EdgeKind::kSE3Point3: ok = a == VertexKind::kSE3 && b == VertexKind::kPoint3; break;
-    }
-    if (!ok) throw ParseError(name, e.line, "edge connects vertices of the wrong types");
+    if (!ConnectsKinds(e.kind, a, b)) throw ParseError(name, e.line, "edge connects vertices of the wrong types");
   }
   for (size_t f = 0; f < g.fixed.size(); ++f) {
     for (int id : g.fixed[f]) {
@@ -458,9 +556,13 @@ Graph ParseG2o(const std::string& text, const std::string& name,
 }
 
 Graph ReadG2o(const std::string& path, const ReadOptions& options, ReadReport* report) {
+  std::error_code ec;
+  BOXPLUS_CHECK(!std::filesystem::is_directory(path, ec), Escaped(path),
+                ": is a directory, not a g2o file");
   std::ifstream in(path, std::ios::binary);
-  BOXPLUS_CHECK(in.good(), path, ": cannot open the file");
+  BOXPLUS_CHECK(in.good(), Escaped(path), ": cannot open the file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  BOXPLUS_CHECK(!in.bad(), Escaped(path), ": reading failed");
   return ParseG2o(text, path, options, report);
 }
 

@@ -9,6 +9,7 @@
 #include "boxplus/factors/pose_point.h"
 #include "boxplus/factors/relative_pose2d.h"
 #include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus::slam {
@@ -84,8 +85,15 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
   loss_ = MakeLoss(options_.robust, options_.robust_width);
   var_of_vertex_.reserve(graph_.vertices.size());
   for (const io::Vertex& v : graph_.vertices) {
-    var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
-                                                  "x" + std::to_string(v.id)));
+    try {
+      var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
+                                                    "x" + std::to_string(v.id)));
+    } catch (const Error& err) {
+      // An estimate the initialisation made non-finite names the vertex's line.
+      if (graph_.name.empty() || v.line <= 0) throw;
+      throw ParseError(io::Escaped(graph_.name), v.line,
+                       "vertex " + std::to_string(v.id) + ": " + err.what());
+    }
   }
   for (const io::Edge& e : graph_.edges) AddEdgeToProblem(e);
   const std::vector<int> fixed = graph_.FixedIds();
@@ -108,8 +116,16 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
 void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
   const int a = var_of_vertex_[graph_.VertexIndex(e.from)];
   const int b = var_of_vertex_[graph_.VertexIndex(e.to)];
-  problem_.AddMeasurement(MakeEdgeCost(e, options_.convention), {a, b}, loss_,
-                          "edge " + std::to_string(e.from) + "-" + std::to_string(e.to));
+  const std::string name = "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
+  try {
+    problem_.AddMeasurement(MakeEdgeCost(e, options_.convention), {a, b}, loss_, name);
+  } catch (const ParseError&) {
+    throw;
+  } catch (const Error& err) {
+    // A factory's complaint about the measurement names the file's line.
+    if (graph_.name.empty() || e.line <= 0) throw;
+    throw ParseError(io::Escaped(graph_.name), e.line, name + ": " + err.what());
+  }
 }
 
 int PoseGraph::variable(int vertex_id) const {
@@ -125,16 +141,36 @@ std::vector<int> PoseGraph::vertex_ids() const {
 
 void PoseGraph::Fix(int vertex_id, bool fixed) { problem_.SetFixed(variable(vertex_id), fixed); }
 
-int PoseGraph::AddVertex(const io::Vertex& v) {
-  const int idx = graph_.AddVertex(v);
-  var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
-                                                "x" + std::to_string(v.id)));
-  return var_of_vertex_[idx];
+// Both validate completely (io::Graph::CheckVertex/CheckEdge, the cost's
+// factory) before the graph or the problem changes: a failed call leaves both
+// as they were, so chi2() and Save() never meet a half-added record.
+int PoseGraph::AddVertex(const io::Vertex& vertex) {
+  io::Vertex v = vertex;
+  v.has_estimate = true;
+  if (v.kind == io::VertexKind::kSE3 && v.estimate.size() == 7) {
+    BOXPLUS_CHECK(NormalizeQuaternion(v.estimate.data() + 3, v.estimate.data() + 3), "vertex ",
+                  v.id, ": quaternion is zero or not finite");
+  }
+  if (v.kind == io::VertexKind::kSE2 && v.estimate.size() == 3 && std::isfinite(v.estimate[2])) {
+    v.estimate[2] = WrapAngleExact(v.estimate[2]);
+  }
+  graph_.CheckVertex(v);
+  const int var = problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
+                                       "x" + std::to_string(v.id));
+  graph_.AddVertex(v);
+  var_of_vertex_.push_back(var);
+  return var;
 }
 
-int PoseGraph::AddEdge(const io::Edge& e) {
-  const int idx = graph_.AddEdge(e);
-  AddEdgeToProblem(graph_.edges[idx]);
+int PoseGraph::AddEdge(const io::Edge& edge) {
+  io::Edge e = edge;
+  if (e.kind == io::EdgeKind::kSE3 && e.measurement.size() == 7) {
+    BOXPLUS_CHECK(NormalizeQuaternion(e.measurement.data() + 3, e.measurement.data() + 3),
+                  "edge ", e.from, " → ", e.to, ": quaternion is zero or not finite");
+  }
+  graph_.CheckEdge(e);
+  AddEdgeToProblem(e);
+  graph_.AddEdge(e);
   return problem_.num_measurements() - 1;
 }
 

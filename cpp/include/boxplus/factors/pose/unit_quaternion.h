@@ -1,0 +1,40 @@
+// Normalisation of quaternions read from files or given by callers, [x, y, z, w].
+//
+// q / ‖q‖ computed naively overflows for components near 1e155 (‖q‖² = inf,
+// q / inf = 0: the quaternion [0, 0, 0, 1e200] became [0, 0, 0, 0]) and
+// underflows below 1e-155. Scaling by the largest |component| first keeps
+// ‖q / max|qᵢ|‖ in [1, 2], so every finite non-zero q normalises exactly to
+// the rotation it means.
+#pragma once
+
+#include <cmath>
+
+namespace boxplus {
+
+// out = q / ‖q‖ (out may alias q). False, out untouched, if q is zero or not
+// finite.
+inline bool NormalizeQuaternion(const double* q, double* out) {
+  double m = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    if (!std::isfinite(q[i])) return false;
+    m = std::fmax(m, std::fabs(q[i]));
+  }
+  if (!(m > 0.0)) return false;
+  double s[4], n2 = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    s[i] = q[i] / m;
+    n2 += s[i] * s[i];
+  }
+  const double n = std::sqrt(n2);
+  for (int i = 0; i < 4; ++i) out[i] = s[i] / n;
+  return true;
+}
+
+// An angle wrapped into [−π, π) exactly: std::remainder is exact, where
+// a − 2π·floor(...) loses every digit for |a| ≈ 1e16 and may land outside.
+inline double WrapAngleExact(double a) {
+  const double r = std::remainder(a, 2.0 * M_PI);
+  return r >= M_PI ? r - 2.0 * M_PI : r;
+}
+
+}  // namespace boxplus

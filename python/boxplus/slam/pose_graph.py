@@ -1,0 +1,207 @@
+"""The pose graph of a g2o/TORO file: boxplus.slam.PoseGraph (see boxplus.slam)."""
+
+from __future__ import annotations
+
+from os import PathLike
+from typing import Callable, Optional, Union
+
+import numpy as np
+
+from boxplus import _core
+from boxplus._core import pose_graph_default_method as _default_method
+from boxplus._core import pose_graph_solver_defaults as _solver_defaults
+
+__all__ = ["SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o"]
+
+PathType = Union[str, "PathLike[str]"]
+
+
+#: Trust-region settings used by :meth:`PoseGraph.solve` (and ``boxplus-g2o``),
+#: from C++ ``boxplus::slam::DefaultSolverOptions``.
+SOLVER_DEFAULTS = dict(_solver_defaults())
+
+
+class PoseGraph(_core.PoseGraph):
+    """A pose graph loaded from a file, ready to extend, solve and save.
+
+    Attributes
+    ----------
+    problem : boxplus.Problem
+        The underlying problem (variables ``x<vertex id>``, one measurement per
+        edge). Add measurements or fix variables on it directly; ids of vertices
+        map to variable ids through :meth:`variable`.
+    report : boxplus._core.LoadReport
+        What loading did: ``unknown_skipped``, ``unknown_tags``,
+        ``repaired_information``, ``repaired_lines``, ``warnings``,
+        ``estimates_from_file``, the times ``read_s``, ``init_s``, ``build_s``.
+
+    The C++ class (``boxplus::slam::PoseGraph``, bound as
+    ``boxplus._core.PoseGraph``) holds the graph, the problem and ``chi2``,
+    ``poses``, ``landmarks``, ``variable``, ``fix``, ``save``; this subclass
+    adds the Python conveniences (``solve`` with keywords, ``positions``,
+    ``add_prior``, ``plot``).
+    """
+
+    @classmethod
+    def load(cls, path: PathType, **options) -> "PoseGraph":
+        """Reads, initialises and builds a graph (:func:`load_g2o`'s keywords)."""
+        return cls(str(path), **options)
+
+    # -- structure ----------------------------------------------------------
+    def value(self, vertex_id: int) -> np.ndarray:
+        """Current ambient value of a vertex (copy)."""
+        return self.problem.value(self.variable(vertex_id))
+
+    # -- extending ----------------------------------------------------------
+    def add_vertex(self, vertex_id: int, kind: str, estimate) -> int:
+        """Adds a vertex ``kind`` in {'SE2', 'SE3', 'XY', 'XYZ'}; returns its variable id."""
+        return super().add_vertex(vertex_id, kind, np.asarray(estimate, float))
+
+    def add_edge(self, kind: str, from_id: int, to_id: int, measurement, information) -> int:
+        """Adds an edge (saved with the graph); returns its measurement id.
+
+        Parameters
+        ----------
+        kind : {'SE2', 'SE3', 'SE2_XY', 'SE3_XYZ', 'SE2_BEARING_RANGE'}
+        measurement : array_like
+            SE2 ``[x, y, θ]``, SE3 ``[t, qx, qy, qz, qw]``, points, or
+            ``[bearing, range]``.
+        information : array_like
+            Full symmetric information matrix, in the error's order.
+        """
+        return super().add_edge(
+            kind,
+            from_id,
+            to_id,
+            np.asarray(measurement, float),
+            np.asarray(information, float),
+        )
+
+    def add_prior(self, vertex_id: int, value, information) -> int:
+        """Adds a prior ``U (x ⊟ z)`` with ``UᵀU = information`` (tangent order)."""
+        from boxplus.noise import noise_model
+
+        vid = self.variable(vertex_id)
+        info = np.asarray(information, float)
+        noise = noise_model(info.shape[0] if info.ndim == 2 else -1, information=info,
+                            what=f"prior on vertex {vertex_id}")
+        return self.problem.add_prior(vid, np.asarray(value, float), noise,
+                                      name=f"prior on vertex {vertex_id}")
+
+    # -- solving and results ------------------------------------------------
+    def solve(
+        self,
+        method: str = "auto",
+        max_iterations: int = 100,
+        num_threads: int = 1,
+        verbose: bool = False,
+        callback: Optional[Callable[[dict], Optional[bool]]] = None,
+        function_tolerance: float = 1e-10,
+        gradient_tolerance: float = 1e-12,
+        parameter_tolerance: float = 1e-10,
+        **trust_region,
+    ):
+        """Solves in place (the C++ solver, GIL released); returns a SolveSummary.
+
+        ``summary.final_cost`` is half the chi2 (Ceres' cost). ``method`` 'auto'
+        is the strategy measured best for the graph's dimension (dogleg for 2D,
+        'lm' for 3D; ``boxplus::slam::DefaultMethod``), else 'lm', 'gn', 'gn_ls'
+        (Gauss–Newton with a line search), 'dogleg'.
+
+        The trust-region settings default to those measured best on pose
+        graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton, λI
+        damping, no Jacobi scaling, up to 5 nonmonotonic steps); override any of
+        ``initial_trust_region_radius``, ``damping`` ('levenberg' or
+        'marquardt'), ``jacobi_scaling``, ``nonmonotonic_steps`` by keyword
+        (``boxplus.Problem.solve`` documents them).
+        """
+        unknown = set(trust_region) - set(SOLVER_DEFAULTS)
+        if unknown:
+            raise TypeError(f"solve() got unexpected keyword arguments {sorted(unknown)}")
+        if method == "auto":
+            method = _default_method(self.dimension)
+        return self.problem.solve(
+            **{**SOLVER_DEFAULTS, **trust_region},
+            method=method,
+            max_iterations=max_iterations,
+            function_tolerance=function_tolerance,
+            gradient_tolerance=gradient_tolerance,
+            parameter_tolerance=parameter_tolerance,
+            num_threads=num_threads,
+            verbose=verbose,
+            callback=callback,
+        )
+
+    def chi2(self, convention: Optional[str] = None) -> float:
+        """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
+        return super().chi2(convention or "")
+
+    def positions(self) -> np.ndarray:
+        """Pose positions, shape (N, 2) or (N, 3)."""
+        return self.poses()[:, : self.dimension]
+
+    def save_g2o(self, path: PathType) -> None:
+        """Writes the graph with the current estimates; ids, order and tags kept."""
+        self.save(str(path))
+
+    def plot(self, path: PathType, before: Optional[np.ndarray] = None, title: str = "") -> None:
+        """PNG of the trajectory (see :func:`boxplus.slam.plot_trajectory`)."""
+        from .plot import plot_trajectory
+
+        plot_trajectory(self, path, before=before, title=title)
+
+
+def load_g2o(
+    path: PathType,
+    *,
+    convention: str = "g2o",
+    robust: str = "none",
+    robust_width: float = 1.0,
+    init: str = "file",
+    skip_unknown: bool = False,
+    repair_information: bool = False,
+) -> PoseGraph:
+    """Reads a g2o or TORO file and builds its problem in C++.
+
+    Parameters
+    ----------
+    convention : {'g2o', 'log', 'sesync'}
+        Relative-pose error (module docstring); 'chordal' is 'sesync'.
+    robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
+    robust_width : float
+        Kernel width on ``sqrt(eᵀΩe)``.
+    init : {'file', 'spanning-tree', 'chordal'}
+        Initial estimate: the file's, composition along a spanning tree, or the
+        chordal rotation relaxation followed by linear translations. Files
+        without vertices always start from the spanning tree.
+    skip_unknown : bool
+        Skip unknown tags (counted in ``report.unknown_tags`` and a warning)
+        instead of raising.
+    repair_information : bool
+        Replace information matrices that are not positive definite by the
+        nearest positive-definite one (counted, with a warning).
+
+    Raises
+    ------
+    boxplus.ParseError
+        Malformed input; the message names the file and the line.
+    """
+    import warnings
+
+    graph = PoseGraph(
+        str(path),
+        convention=convention,
+        robust=robust,
+        robust_width=robust_width,
+        init=init,
+        skip_unknown=skip_unknown,
+        repair_information=repair_information,
+    )
+    if graph.report.warnings:
+        warnings.warn(graph.report.warnings.strip(), stacklevel=2)
+    return graph
+
+
+def save_g2o(graph: PoseGraph, path: PathType) -> None:
+    """Writes ``graph`` with its current estimates (see :meth:`PoseGraph.save_g2o`)."""
+    graph.save_g2o(path)
