@@ -100,9 +100,9 @@ class CalibrationFactors:
         what = _what(name, "projection", self._count())
         ids = self._check_ids([intrinsics, world_from_rig, cam_from_rig], what)
         self._check_intrinsics(intrinsics, model, what)
-        W = noise_model(2, sigma, covariance, information, noise, what)
+        nm = noise_model(2, sigma, covariance, information, noise, what)
         mid = self._core.add_pinhole_point(
-            model, *ids, _vector(z, 2, "z", what), W, _vector(p_in_world, 3, "p_in_world", what),
+            model, *ids, _vector(z, 2, "z", what), nm, _vector(p_in_world, 3, "p_in_world", what),
             name or "", make_loss(loss, what))
         return self._register(mid, f"projection[{model}]")
 
@@ -130,8 +130,8 @@ class CalibrationFactors:
         if not (np.all(np.isfinite(zz)) and np.all(np.isfinite(pw))):
             raise ValueError(f"{what}: non-finite points (an undetected board?)")
         self._check_intrinsics(intrinsics, model, what)
-        W = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_pinhole_board(model, *ids, np.ascontiguousarray(zz), W,
+        nm = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_pinhole_board(model, *ids, np.ascontiguousarray(zz), nm,
                                            np.ascontiguousarray(pw), name or "",
                                            make_loss(loss, what))
         return self._register(mid, group or f"board[{model}]")
@@ -150,8 +150,8 @@ class CalibrationFactors:
         ids = self._check_ids([intrinsics, base_from_rig, p_in_hand, cam_from_rig], what)
         self._check_intrinsics(intrinsics, model, what)
         pose = _pose(base_from_hand, "base_from_hand", what)
-        W = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_marker(model, *ids, _vector(z, 2, "z", what), W, pose, name or "",
+        nm = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_marker(model, *ids, _vector(z, 2, "z", what), nm, pose, name or "",
                                     make_loss(loss, what))
         return self._register(mid, group or "marker")
 
@@ -176,8 +176,8 @@ class CalibrationFactors:
                              f"{self.codec(dh).ambient_size}")
         pre = _pose(SE3() if base_from_chain is None else base_from_chain, "base_from_chain", what)
         post = _pose(SE3() if flange_from_hand is None else flange_from_hand, "flange_from_hand", what)
-        W = noise_model(2, sigma, covariance, information, noise, what)
-        mid = self._core.add_dh_marker(model, *ids, _vector(z, 2, "z", what), W, q, pre, post,
+        nm = noise_model(2, sigma, covariance, information, noise, what)
+        mid = self._core.add_dh_marker(model, *ids, _vector(z, 2, "z", what), nm, q, pre, post,
                                        name or "", make_loss(loss, what))
         return self._register(mid, group or "marker")
 
@@ -202,9 +202,9 @@ class CalibrationFactors:
             model = {1: "scale", 4: "scale_bias"}.get(n)
             if model is None:
                 raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
-        W = noise_model(3, sigma, covariance, information, noise, what)
+        nm = noise_model(3, sigma, covariance, information, noise, what)
         mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
-                                     _vector(z, 3, "z", what), W,
+                                     _vector(z, 3, "z", what), nm,
                                      _vector(g_in_world, 3, "g_in_world", what), name or "",
                                      make_loss(loss, what))
         return self._register(mid, group)
@@ -220,8 +220,8 @@ class CalibrationFactors:
         what = _what(name, "relative pose", self._count())
         ids = self._check_ids([world_from_a, world_from_b], what)
         z = _pose(a_from_b, "a_from_b", what)
-        W = noise_model(6, sigma, covariance, information, noise, what)
-        mid = self._core.add_relative_pose(*ids, z, W, name or "", make_loss(loss, what))
+        nm = noise_model(6, sigma, covariance, information, noise, what)
+        mid = self._core.add_relative_pose(*ids, z, nm, name or "", make_loss(loss, what))
         return self._register(mid, group)
 
     def add_point(
@@ -239,8 +239,8 @@ class CalibrationFactors:
         else:
             ids = self._check_ids([world_from_rig, cam_from_rig], what)
             pw, pid = _vector(p_in_world, 3, "p_in_world", what), -1
-        W = noise_model(3, sigma, covariance, information, noise, what)
-        mid = self._core.add_point(ids[0], ids[1], pid, _vector(z, 3, "z", what), W, pw,
+        nm = noise_model(3, sigma, covariance, information, noise, what)
+        mid = self._core.add_point(ids[0], ids[1], pid, _vector(z, 3, "z", what), nm, pw,
                                    name or "", make_loss(loss, what))
         return self._register(mid, group)
 
@@ -255,8 +255,8 @@ class CalibrationFactors:
         ``disparity_params`` an Rn(2) variable [a, b]; 1-dim noise in disparity units."""
         what = _what(name, "disparity", self._count())
         ids = self._check_ids([world_from_rig, cam_from_rig, disparity_params], what)
-        W = noise_model(1, sigma, covariance, information, noise, what)
-        mid = self._core.add_disparity(*ids, float(_vector(d, 1, "d", what)[0]), W,
+        nm = noise_model(1, sigma, covariance, information, noise, what)
+        mid = self._core.add_disparity(*ids, float(_vector(d, 1, "d", what)[0]), nm,
                                        _vector(p_in_world, 3, "p_in_world", what), name or "",
                                        make_loss(loss, what))
         return self._register(mid, group)
