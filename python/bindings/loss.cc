@@ -1,6 +1,8 @@
 // Binding of the robust losses (boxplus/loss.h, the one loss parser).
 #include <string>
 
+#include <pybind11/stl.h>
+
 #include "bindings.h"
 #include "boxplus/loss.h"
 #include "manifold_handle.h"
