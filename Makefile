@@ -5,6 +5,9 @@ VENV   := .venv
 VPY    := $(VENV)/bin/python
 JOBS   ?= 2
 CPP_BUILD := build/cpp
+# With ccache installed, paths inside the checkout are hashed relative to it,
+# so clones and worktrees of the project share compiled objects.
+export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
 .PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench fuzz clean sanitize
@@ -47,7 +50,7 @@ py-test: install
 
 # Pyflakes and pycodestyle errors (not style): unused names, undefined names, ...
 lint: venv
-	$(VPY) -m ruff check --no-cache --select E,F,W --ignore E501,E741,E731 python tests examples bench
+	$(VPY) -m ruff check --no-cache --select E,F,W --ignore E501,E741,E731 --extend-exclude python/boxplus/_core.pyi python tests examples bench
 
 bench: install
 	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true

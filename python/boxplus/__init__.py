@@ -40,7 +40,7 @@ from boxplus.manifolds import (
     make_compound,
 )
 from boxplus.problem import EvaluationError, OptimizationProblem
-from boxplus import batch, losses, measurements, noise
+from boxplus import batch, losses, measurements, noise, solver
 
 __all__ = [
     "S2",
@@ -68,6 +68,7 @@ __all__ = [
     "losses",
     "measurements",
     "noise",
+    "solver",
     "codec_of",
     "make_compound",
     "make_manifold",

@@ -27,7 +27,7 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Set, Tuple
 
 import numpy as np
 
-from boxplus import _core, batch
+from boxplus import _core, batch, solver
 from boxplus.calib.factors import CalibrationFactors
 from boxplus.losses import LossSpec, make_loss
 from boxplus.manifolds import Codec, codec_of
@@ -439,22 +439,7 @@ class OptimizationProblem(CalibrationFactors):
             A Python exception raised by a measurement function, a manifold's ⊞
             or the callback is re-raised with its traceback.
         """
-        if callback is not None and not callable(callback):
-            raise TypeError(f"callback must be callable, got {type(callback).__name__}")
-        # C++ would print to stderr, which notebooks do not show: printed here instead.
-        verbose = bool(verbose or overrides.pop("verbose", False) or getattr(options, "verbose", False))
-        cb = callback
-        if verbose:
-            print(_core.progress_header(), flush=True)
-
-            def cb(info: "_core.IterationInfo") -> Any:
-                print(_core.format_progress(info), flush=True)
-                return callback(info) if callback is not None else None
-
-        summary = self._core.solve(options, cb, **overrides, verbose=False)
-        if verbose:
-            print(_core.format_summary(summary), flush=True)
-        return summary
+        return solver.run(self._core, options, callback, verbose, **overrides)
 
     # ---- after a solve ---------------------------------------------------------------
     def _undetermined(self, vid: int) -> bool:

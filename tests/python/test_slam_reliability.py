@@ -187,6 +187,29 @@ def test_se2_angle_1e16_loads_wrapped(tmp_path):
         assert theta == pytest.approx(math.remainder(theta0, 2 * math.pi), abs=1e-15)
 
 
+def test_se2_edge_angle_1e16_is_wrapped_as_exactly_as_a_vertex_angle(tmp_path):
+    # The fuzzer found the loader's chi2 and the numpy oracle's disagreeing here:
+    # the solver's wrap(θj − θi − θz) loses every digit of θz = 1e16.
+    theta_z = math.remainder(1e16, 2 * math.pi)
+    g = slam.load_g2o(_write(tmp_path, "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                             "EDGE_SE2 0 1 1 0 1e16 1 0 0 1 0 1\n"))
+    h = slam.load_g2o(_write(tmp_path, "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                             f"EDGE_SE2 0 1 1 0 {theta_z!r} 1 0 0 1 0 1\n", "h.g2o"))
+    assert g.chi2() == pytest.approx(h.chi2(), rel=1e-15)
+    assert g.chi2() == pytest.approx(theta_z**2, rel=1e-12)
+
+
+def test_repairing_huge_information_entries_does_not_overflow(tmp_path):
+    # Entries near the largest double: the eigen-decomposition is done at unit
+    # scale, so the repair succeeds (or would name file:line).
+    text = ("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+            "EDGE_SE2 0 1 1 0 0 1e300 1e300 0 1e300 0 -1e300\n")
+    with pytest.warns(UserWarning, match="replaced 1 information"):
+        g = slam.load_g2o(_write(tmp_path, text), repair_information=True)
+    assert g.report.repaired_information == 1
+    assert math.isfinite(g.chi2())
+
+
 # -- item 11: FIX naming a landmark ----------------------------------------------
 
 

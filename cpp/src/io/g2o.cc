@@ -188,13 +188,18 @@ bool CanRepair(const Eigen::MatrixXd& info) {
 }
 
 Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& info) {
-  const Eigen::MatrixXd sym = 0.5 * (info + info.transpose());
+  // Decomposed at unit scale, so entries near the largest double (1e300)
+  // cannot overflow the eigenvalues; the repair is scale-invariant.
+  const double scale = info.cwiseAbs().maxCoeff();
+  BOXPLUS_CHECK(scale > 0 && std::isfinite(scale),
+                "information matrix is zero or not finite: cannot be repaired");
+  const Eigen::MatrixXd sym = 0.5 * (info / scale + (info / scale).transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(sym);
   const double max_abs = es.eigenvalues().cwiseAbs().maxCoeff();
   BOXPLUS_CHECK(max_abs > 0 && std::isfinite(max_abs),
                 "information matrix is zero or not finite: cannot be repaired");
   const Eigen::VectorXd lambda = es.eigenvalues().cwiseMax(1e-9 * max_abs);
-  return es.eigenvectors() * lambda.asDiagonal() * es.eigenvectors().transpose();
+  return scale * (es.eigenvectors() * lambda.asDiagonal() * es.eigenvectors().transpose());
 }
 
 namespace {
@@ -396,7 +401,11 @@ Graph ParseG2o(const std::string& text, const std::string& name,
         if (!CanRepair(info)) {
           lp.Fail(tag + ": information matrix is zero or not finite: cannot be repaired");
         }
-        info = NearestPositiveDefinite(info);
+        try {
+          info = NearestPositiveDefinite(info);
+        } catch (const Error& e) {
+          lp.Fail(tag + ": " + e.what());
+        }
         ++rep.repaired_information;
         rep.repaired_lines.push_back(line);
       }
@@ -441,13 +450,15 @@ Graph ParseG2o(const std::string& text, const std::string& name,
                  Eigen::Vector3d(lp.Number(2), lp.Number(3), lp.Number(4)), false);
     } else if (tag == "EDGE_SE2") {
       lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I13 I22 I23 I33");
+      // The measured angle wrapped exactly, as a vertex's: for |θ| ≫ 2π the
+      // solver's wrap(θj − θi − θz) would lose every digit of it.
       add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(3), lp.Number(4), lp.Number(5)),
+               Eigen::Vector3d(lp.Number(3), lp.Number(4), WrapAngleExact(lp.Number(5))),
                lp.UpperTriangle(6, 3), false);
     } else if (tag == "EDGE2") {
       lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I22 I33 I13 I23");
       add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(3), lp.Number(4), lp.Number(5)),
+               Eigen::Vector3d(lp.Number(3), lp.Number(4), WrapAngleExact(lp.Number(5))),
                ToroInfo2(lp, 6), true);
     } else if (tag == "EDGE_SE3:QUAT") {
       lp.ExpectCount(30, "i j dx dy dz qx qy qz qw I(21, upper triangle)");

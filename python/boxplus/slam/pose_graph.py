@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 from os import PathLike
-from typing import Callable, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
-from boxplus import _core
+from boxplus import _core, solver
 from boxplus._core import pose_graph_default_method as _default_method
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
 
@@ -91,46 +91,28 @@ class PoseGraph(_core.PoseGraph):
     # -- solving and results ------------------------------------------------
     def solve(
         self,
-        method: str = "auto",
-        max_iterations: int = 100,
-        num_threads: int = 1,
+        options: Optional[_core.SolverOptions] = None,
+        callback: Optional[Callable[[_core.IterationInfo], Any]] = None,
         verbose: bool = False,
-        callback: Optional[Callable[[dict], Optional[bool]]] = None,
-        function_tolerance: float = 1e-10,
-        gradient_tolerance: float = 1e-12,
-        parameter_tolerance: float = 1e-10,
-        **trust_region,
-    ):
+        **overrides: Any,
+    ) -> _core.SolveSummary:
         """Solves in place (the C++ solver, GIL released); returns a SolveSummary.
 
-        ``summary.final_cost`` is half the chi2 (Ceres' cost). ``method`` 'auto'
-        is the strategy measured best for the graph's dimension (dogleg for 2D,
-        'lm' for 3D; ``boxplus::slam::DefaultMethod``), else 'lm', 'gn', 'gn_ls'
-        (Gauss–Newton with a line search), 'dogleg'.
-
-        The trust-region settings default to those measured best on pose
-        graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton, λI
-        damping, no Jacobi scaling, up to 5 nonmonotonic steps); override any of
-        ``initial_trust_region_radius``, ``damping`` ('levenberg' or
-        'marquardt'), ``jacobi_scaling``, ``nonmonotonic_steps`` by keyword
-        (``boxplus.Problem.solve`` documents them).
+        The same vocabulary as :meth:`boxplus.OptimizationProblem.solve`
+        (:func:`boxplus.solver.run`): ``options`` a :class:`boxplus.SolverOptions`,
+        any field overridden by keyword, ``callback(info)`` per iteration,
+        ``verbose`` prints χ² per iteration. Defaults are those measured best on
+        pose graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton,
+        λI damping, no Jacobi scaling, up to 5 nonmonotonic steps), and
+        ``method='auto'`` (the default) is the strategy for the graph's
+        dimension (dogleg for 2D, 'lm' for 3D; ``boxplus::slam::DefaultMethod``).
+        ``summary.final_chi2`` is the objective (Σ ρ(eᵀΩe)).
         """
-        unknown = set(trust_region) - set(SOLVER_DEFAULTS)
-        if unknown:
-            raise TypeError(f"solve() got unexpected keyword arguments {sorted(unknown)}")
-        if method == "auto":
-            method = _default_method(self.dimension)
-        return self.problem.solve(
-            **{**SOLVER_DEFAULTS, **trust_region},
-            method=method,
-            max_iterations=max_iterations,
-            function_tolerance=function_tolerance,
-            gradient_tolerance=gradient_tolerance,
-            parameter_tolerance=parameter_tolerance,
-            num_threads=num_threads,
-            verbose=verbose,
-            callback=callback,
-        )
+        if options is None:
+            overrides = {**SOLVER_DEFAULTS, "method": "auto", **overrides}
+        if overrides.get("method") == "auto":
+            overrides["method"] = _default_method(self.dimension)
+        return solver.run(self.problem, options, callback, verbose, **overrides)
 
     def chi2(self, convention: Optional[str] = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""

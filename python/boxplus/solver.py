@@ -1,0 +1,51 @@
+"""One solve loop for every front end: the bound solver vocabulary and its printer.
+
+:class:`SolverOptions`, :class:`IterationInfo` and :class:`SolveSummary` are the
+C++ types (``boxplus/solver_options.h``) bound as classes; :func:`run` is the
+one place a Python front end (:class:`boxplus.OptimizationProblem`,
+:class:`boxplus.slam.PoseGraph`) starts a solve, so options, callbacks and the
+progress lines (χ² = 2 × cost, the C++ format of ``boxplus/progress.h``) are
+the same everywhere.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Optional
+
+from boxplus import _core
+
+__all__ = ["IterationInfo", "SolveSummary", "SolverOptions", "run"]
+
+SolverOptions = _core.SolverOptions
+IterationInfo = _core.IterationInfo
+SolveSummary = _core.SolveSummary
+
+
+def run(
+    problem: _core.Problem,
+    options: Optional[SolverOptions] = None,
+    callback: Optional[Callable[[IterationInfo], Any]] = None,
+    verbose: bool = False,
+    **overrides: Any,
+) -> SolveSummary:
+    """Solves ``problem`` with ``options`` (fields overridden by keyword).
+
+    ``verbose`` prints one line per iteration and a summary with Python's
+    ``print`` (C++ would write to stderr, which notebooks and
+    ``contextlib.redirect_stdout`` do not see).
+    """
+    if callback is not None and not callable(callback):
+        raise TypeError(f"callback must be callable, got {type(callback).__name__}")
+    verbose = bool(verbose or overrides.pop("verbose", False) or getattr(options, "verbose", False))
+    cb = callback
+    if verbose:
+        print(_core.progress_header(), flush=True)
+
+        def cb(info: IterationInfo) -> Any:
+            print(_core.format_progress(info), flush=True)
+            return callback(info) if callback is not None else None
+
+    summary = problem.solve(options, cb, **overrides, verbose=False)
+    if verbose:
+        print(_core.format_summary(summary), flush=True)
+    return summary
