@@ -16,9 +16,8 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 import boxplus as bp
+import numpy as np
 from boxplus.calib import add_camera, check_views, init_camera, report, rotation_between
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 

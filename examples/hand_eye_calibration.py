@@ -19,9 +19,8 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 import boxplus as bp
+import numpy as np
 from boxplus.calib import board_pose, hand_eye_park, mean_pose, report
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 

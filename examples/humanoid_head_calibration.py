@@ -39,12 +39,18 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 import boxplus as bp
-from boxplus.calib import (add_camera, init_camera, marker_hand_eye, relative_pose_init, report,
-                           rotation_between, triangulate)
-from boxplus.calib import synthetic
+import numpy as np
+from boxplus.calib import (
+    add_camera,
+    init_camera,
+    marker_hand_eye,
+    relative_pose_init,
+    report,
+    rotation_between,
+    synthetic,
+    triangulate,
+)
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 MODEL = "opencv5"
@@ -238,7 +244,7 @@ def calibrate(data, kinematics="known", dh_prior=True):
             ids[f"dh_{side}"] = dh
             if dh_prior:
                 o.add_prior(dh, bp.Rn(DH_NOMINAL), sigma=DH_SIGMA, name=f"CAD dh_{side}")
-        for j, a in enumerate(arms[side]):
+        for _j, a in enumerate(arms[side]):
             for cam, cam_from_left, z in ((left, identity, a["z_left"]), (right, right_from_left, a["z_right"])):
                 if kinematics == "known":
                     o.add_marker(z, cam, head_from_left, ph, cam_from_left, a["head_from_hand"], sigma=data["marker_sigma"],

@@ -26,15 +26,21 @@ import argparse
 import itertools
 import time
 
-import numpy as np
-
 import boxplus as bp
-from boxplus.joint import (
-    EXTRINSICS, ActiveTriangulation, JointCalibration, RobotArm, StereoPair, calibrate_incrementally,
-    camera, cross_validate, project,
-)
+import numpy as np
 from boxplus.batch import view
 from boxplus.geometry import look_at
+from boxplus.joint import (
+    EXTRINSICS,
+    ActiveTriangulation,
+    JointCalibration,
+    RobotArm,
+    StereoPair,
+    calibrate_incrementally,
+    camera,
+    cross_validate,
+    project,
+)
 from boxplus.manifolds import codec_of
 
 # ---- the true robot -------------------------------------------------------------------

@@ -38,10 +38,16 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 import boxplus as bp
-from boxplus.calib import add_camera, init_camera, relative_pose_init, report, rotation_between, synthetic
+import numpy as np
+from boxplus.calib import (
+    add_camera,
+    init_camera,
+    relative_pose_init,
+    report,
+    rotation_between,
+    synthetic,
+)
 from boxplus.calib.synthetic import board_points, observe, random_views
 
 MODEL = "opencv5"

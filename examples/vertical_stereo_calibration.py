@@ -28,9 +28,8 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 import boxplus as bp
+import numpy as np
 from boxplus.calib import add_camera, init_camera, relative_pose_init, report, synthetic
 from boxplus.calib.synthetic import board_points, observe, random_views
 

@@ -25,11 +25,11 @@ Every batch has ``.ambient`` (N, ambient size), the solver's storage layout.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Optional
+from typing import Any, Callable
 
 import numpy as np
 
-from boxplus.manifolds import SE2, SE3, SO2, SO3, S2, Codec
+from boxplus.manifolds import S2, SE2, SE3, SO2, SO3, Codec
 
 __all__ = [
     "CompoundBatch",
@@ -116,7 +116,7 @@ class RnBatch:
     def ambient(self) -> np.ndarray:
         return self.vec
 
-    def perturbed(self, direction: int, h: np.ndarray) -> "RnBatch":
+    def perturbed(self, direction: int, h: np.ndarray) -> RnBatch:
         """This batch ⊞ (h · e_direction): h (N,) added to one coordinate."""
         v = self.vec.copy()
         v[:, direction] += h
@@ -156,7 +156,7 @@ class SO3Batch:
         self._R = None
 
     @classmethod
-    def from_matrix(cls, R: np.ndarray) -> "SO3Batch":
+    def from_matrix(cls, R: np.ndarray) -> SO3Batch:
         """From rotation matrices (N, 3, 3); the quaternions are computed when asked for."""
         b = cls.__new__(cls)
         b._quat = None
@@ -181,7 +181,7 @@ class SO3Batch:
     def ambient(self) -> np.ndarray:
         return self.quat
 
-    def inverse(self) -> "SO3Batch":
+    def inverse(self) -> SO3Batch:
         return SO3Batch(self.quat * np.array([-1.0, -1.0, -1.0, 1.0]))
 
     def __mul__(self, other: Any) -> Any:
@@ -193,7 +193,7 @@ class SO3Batch:
 
     __matmul__ = __mul__
 
-    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SO3Batch"]:
+    def perturbed(self, direction: int, h: np.ndarray) -> SO3Batch | None:
         """R · exp(h e_direction) when the step h (N,) is the same in every row; None otherwise."""
         if not np.all(h == h[0]):
             return None
@@ -238,12 +238,12 @@ class SE3Batch:
         self.rot = rot
 
     @classmethod
-    def from_ambient(cls, a: np.ndarray) -> "SE3Batch":
+    def from_ambient(cls, a: np.ndarray) -> SE3Batch:
         a = np.asarray(a, dtype=float)
         return cls(a[:, :3], SO3Batch(a[:, 3:7]))
 
     @classmethod
-    def from_Rt(cls, R: np.ndarray, t: np.ndarray) -> "SE3Batch":
+    def from_Rt(cls, R: np.ndarray, t: np.ndarray) -> SE3Batch:
         return cls(t, SO3Batch.from_matrix(R))
 
     @property
@@ -276,7 +276,7 @@ class SE3Batch:
         """Rᵀ (v − p) for each row."""
         return np.einsum("nji,nj->ni", self.R, _points(v, len(self), 3) - self.pos)
 
-    def inverse(self) -> "SE3Batch":
+    def inverse(self) -> SE3Batch:
         Rt = np.transpose(self.R, (0, 2, 1))
         return SE3Batch.from_Rt(Rt, -np.einsum("nij,nj->ni", Rt, self.pos))
 
@@ -288,7 +288,7 @@ class SE3Batch:
 
     __matmul__ = __mul__
 
-    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SE3Batch"]:
+    def perturbed(self, direction: int, h: np.ndarray) -> SE3Batch | None:
         """This batch ⊞ (h · e_direction), tangent [translation, rotation], when the
         step h (N,) is the same in every row; None otherwise."""
         if direction < 3:
@@ -348,7 +348,7 @@ def view(codec: Codec, X: np.ndarray) -> Any:
     return codec.view(X)
 
 
-_BUILTIN_VIEWS: Dict[type, Callable[[np.ndarray], Any]] = {
+_BUILTIN_VIEWS: dict[type, Callable[[np.ndarray], Any]] = {
     SO2: lambda X: SO2Batch(X[:, 0]),
     SO3: SO3Batch,
     SE2: lambda X: SE2Batch(X[:, :2], X[:, 2]),

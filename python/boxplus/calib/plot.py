@@ -4,7 +4,7 @@ poses, IMU, hand markers)."""
 
 from __future__ import annotations
 
-from typing import Dict, Mapping, Optional, Sequence, Tuple
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -20,7 +20,7 @@ def _plt():
     return plt
 
 
-def plot_reprojection_errors(o, path: str, mids: Optional[Mapping[str, Sequence[int]]] = None,
+def plot_reprojection_errors(o, path: str, mids: Mapping[str, Sequence[int]] | None = None,
                              title: str = "reprojection errors") -> None:
     """Per image (one built-in board/marker measurement each) the RMS error, and
     all error vectors as a scatter, one colour per group.
@@ -64,8 +64,8 @@ def _axes(ax, pose, length: float, label: str) -> None:
     ax.text(*t, label, fontsize=8)
 
 
-def plot_rig(path: str, frames: Mapping[str, object], boards: Sequence[Tuple[object, np.ndarray]] = (),
-             points: Optional[Dict[str, np.ndarray]] = None, length: float = 1.0,
+def plot_rig(path: str, frames: Mapping[str, object], boards: Sequence[tuple[object, np.ndarray]] = (),
+             points: dict[str, np.ndarray] | None = None, length: float = 1.0,
              title: str = "rig") -> None:
     """The rig in one reference frame: ``frames`` {name: ref_from_frame (SE3)} drawn as
     axes (x red, y green, z blue), ``boards`` [(ref_from_board, p_in_board (N, 3))]

@@ -32,7 +32,7 @@ Plane = make_compound("Plane", normal=S2([0.0, 0.0, 1.0]), distance=Rn(1))
 Line = make_compound("Line", direction=S2([1.0, 0.0, 0.0]), point=Rn(3))
 
 
-def fit_plane(points: np.ndarray) -> "Plane":
+def fit_plane(points: np.ndarray) -> Plane:
     """Total-least-squares plane through ≥ 3 points (SVD), as a :data:`Plane`."""
     p = np.asarray(points, dtype=float)
     c = p.mean(axis=0)
@@ -40,7 +40,7 @@ def fit_plane(points: np.ndarray) -> "Plane":
     return Plane(normal=S2(n), distance=[n @ c])
 
 
-def fit_line(points: np.ndarray) -> "Line":
+def fit_line(points: np.ndarray) -> Line:
     """Total-least-squares line through ≥ 2 points (SVD), as a :data:`Line`."""
     p = np.asarray(points, dtype=float)
     c = p.mean(axis=0)

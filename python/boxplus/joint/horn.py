@@ -13,8 +13,6 @@ Frames: the result is ``b_from_a``, an SE3 with ``b_from_a.fromlocal(a) ≈ b``
 
 from __future__ import annotations
 
-from typing import Optional
-
 import numpy as np
 
 from boxplus.geometry import absolute_orientation
@@ -23,7 +21,7 @@ from boxplus.manifolds import SE3
 __all__ = ["horn"]
 
 
-def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: Optional[np.ndarray] = None) -> SE3:
+def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: np.ndarray | None = None) -> SE3:
     """The rigid transform b_from_a minimising Σ wᵢ ‖R aᵢ + t − bᵢ‖².
 
     Parameters

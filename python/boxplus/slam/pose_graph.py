@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from os import PathLike
-from typing import Callable, Optional, Union
+from typing import Callable, Union
 
 import numpy as np
 
@@ -43,7 +43,7 @@ class PoseGraph(_core.PoseGraph):
     """
 
     @classmethod
-    def load(cls, path: PathType, **options) -> "PoseGraph":
+    def load(cls, path: PathType, **options) -> PoseGraph:
         """Reads, initialises and builds a graph (:func:`load_g2o`'s keywords)."""
         return cls(str(path), **options)
 
@@ -95,7 +95,7 @@ class PoseGraph(_core.PoseGraph):
         max_iterations: int = 100,
         num_threads: int = 1,
         verbose: bool = False,
-        callback: Optional[Callable[[dict], Optional[bool]]] = None,
+        callback: Callable[[dict], bool | None] | None = None,
         function_tolerance: float = 1e-10,
         gradient_tolerance: float = 1e-12,
         parameter_tolerance: float = 1e-10,
@@ -132,7 +132,7 @@ class PoseGraph(_core.PoseGraph):
             callback=callback,
         )
 
-    def chi2(self, convention: Optional[str] = None) -> float:
+    def chi2(self, convention: str | None = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
         return super().chi2(convention or "")
 
@@ -144,7 +144,7 @@ class PoseGraph(_core.PoseGraph):
         """Writes the graph with the current estimates; ids, order and tags kept."""
         self.save(str(path))
 
-    def plot(self, path: PathType, before: Optional[np.ndarray] = None, title: str = "") -> None:
+    def plot(self, path: PathType, before: np.ndarray | None = None, title: str = "") -> None:
         """PNG of the trajectory (see :func:`boxplus.slam.plot_trajectory`)."""
         from .plot import plot_trajectory
 

@@ -43,7 +43,7 @@ from __future__ import annotations
 import bisect
 import inspect
 from dataclasses import dataclass
-from typing import Callable, Dict
+from typing import Callable
 
 import numpy as np
 
@@ -146,10 +146,8 @@ def _turn_group(dim: int):
         row = []
         for t in turns:
             r = group[i] @ t
-            for g, m in enumerate(group):
-                if np.array_equal(m, r):
-                    break
-            else:
+            g = next((j for j, m in enumerate(group) if np.array_equal(m, r)), None)
+            if g is None:
                 group.append(r)
                 g = len(group) - 1
             row.append(g)
@@ -344,7 +342,7 @@ def _random_walk(dim: int, n: int, rng: np.random.Generator, step: float, turn: 
 
 
 #: Family name → function ``(dim, n, rng, step, **options) -> Trajectory``.
-FAMILIES: Dict[str, Callable[..., Trajectory]] = {
+FAMILIES: dict[str, Callable[..., Trajectory]] = {
     "manhattan": _manhattan,
     "grid": _grid,
     "sphere": _sphere,
