@@ -38,6 +38,7 @@ Run: .venv/bin/python examples/humanoid_head_calibration.py [--noise PX] [--kine
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import boxplus as bp
 import numpy as np
@@ -73,7 +74,8 @@ DH_SIGMA = np.tile([0.003, 0.002, 0.002, 0.003], 6)  # rad, m, m, rad
 DH_LABELS = [f"{n}{j + 1}" for j in range(6) for n in ("θ", "d", "a", "α")]
 
 _rng_truth = np.random.default_rng(2024)
-TRUTH = dict(
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(
     left=TRUE_K,
     right=np.array([524.0, 521.0, 317.0, 241.0, -0.27, 0.07, -0.0008, 0.0006, 0.0]),
     right_from_left=bp.SE3(bp.SO3.exp(np.array([0.004, -0.012, 0.003])), [-0.09, 0.0012, -0.0008]),
@@ -136,7 +138,7 @@ def _arm_poses(side, n, rng, batch=4000):
     """n random (q, pan, tilt) whose hand marker both cameras see (rejection sampling)."""
     from boxplus.calib.synthetic import project
 
-    out = []
+    out: list[tuple[np.ndarray, float, float]] = []  # (joint angles, pan, tilt)
     S, L2H, L2R = SHOULDER2TORSO[side], TRUTH["head_from_left"], TRUTH["right_from_left"]
     while len(out) < n:
         Q = rng.uniform(-np.pi, np.pi, (batch, 6))

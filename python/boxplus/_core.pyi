@@ -2,13 +2,10 @@
 boxplus._core: C++ core of boxplus (manifolds, problem, solver).
 """
 from __future__ import annotations
-
 import collections.abc
-import typing
-
 import numpy
 import numpy.typing
-
+import typing
 __all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_default_method', 'pose_graph_solver_defaults', 'progress_header']
 class BoxplusError(ValueError):
     """
@@ -25,7 +22,7 @@ class ParseError(BoxplusError):
 class NoiseModel:
     """
     Gaussian measurement noise: the whitening W with WᵀW = Ω = Σ⁻¹.
-
+    
     A measurement's residual is r = W e for its error e = f(Y) ⊟ z, so that r
     has unit covariance. Build one with a class method, or let every ``add_*``
     build it from its ``sigma=``, ``covariance=`` or ``information=`` keyword
@@ -35,15 +32,15 @@ class NoiseModel:
     class Form:
         """
         Members:
-
+        
           unit
-
+        
           sigmas
-
+        
           covariance
-
+        
           information
-
+        
           sqrt_information
         """
         __members__: typing.ClassVar[dict[str, NoiseModel.Form]]
@@ -172,9 +169,9 @@ class Loss:
 class SolverOptions:
     """
     Settings of a solve (boxplus/solver_options.h), shared by every problem.
-
+    
     Construct with keywords, e.g. ``SolverOptions(method="gn_ls", max_iterations=50)``.
-
+    
     Attributes
     ----------
     method : {'lm', 'gn', 'gn_ls', 'dogleg'}
@@ -233,7 +230,7 @@ class SolverOptions:
 class IterationInfo:
     """
     What the per-iteration callback receives (read-only).
-
+    
     ``cost`` is Ceres' ½ Σ ρ(‖rᵢ‖²); ``chi2`` = 2·cost is what the progress lines
     print. ``trust_region_radius`` is 0 for the line search, whose step length α
     is ``step_length`` (1 for trust-region methods).
@@ -297,7 +294,7 @@ class IterationInfo:
 class SolveSummary:
     """
     What a solve did and why it stopped (read-only).
-
+    
     ``termination`` is 'convergence', 'no_convergence', 'interrupted' (callback or
     Ctrl-C: the estimate is the last accepted one) or 'failure'; ``usable`` says
     whether the estimate may be used. ``initial_chi2``/``final_chi2`` = 2 × cost.
@@ -360,7 +357,7 @@ class SolveSummary:
 class Manifold:
     """
     A manifold as the solver sees it: ambient (storage) coordinates and ⊞/⊟.
-
+    
     Jacobians are those Ceres defines: ``plus_jacobian(x)`` is d(x ⊞ δ)/dδ at
     δ = 0 (ambient × tangent), ``minus_jacobian(x)`` is d(y ⊟ x)/dy at y = x
     (tangent × ambient).
@@ -399,7 +396,7 @@ class Manifold:
 class SO2:
     """
     Planar rotation by an angle φ (radians), kept in [-π, π).
-
+    
     x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
     """
     dof: typing.ClassVar[int] = 1
@@ -408,9 +405,9 @@ class SO2:
         """
         __mul__(*args, **kwargs)
         Overloaded function.
-
+        
         1. __mul__(self: boxplus._core.SO2, arg0: boxplus._core.SO2) -> boxplus._core.SO2
-
+        
         2. __mul__(self: boxplus._core.SO2, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
@@ -474,7 +471,7 @@ class SO2:
 class SO3:
     """
     3D rotation, stored as a unit quaternion [x, y, z, w].
-
+    
     x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), |y - x| ≤ π.
     Construct with SO3() (identity), SO3(R) (3×3 matrix), SO3.from_quat([x, y, z, w])
     or SO3.exp(rotation_vector).
@@ -485,9 +482,9 @@ class SO3:
         """
         __mul__(*args, **kwargs)
         Overloaded function.
-
+        
         1. __mul__(self: boxplus._core.SO3, arg0: boxplus._core.SO3) -> boxplus._core.SO3
-
+        
         2. __mul__(self: boxplus._core.SO3, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
@@ -583,7 +580,7 @@ class SO3:
 class SE2:
     """
     Planar pose (position p, angle φ) = R² × SO(2), mapping local to parent.
-
+    
     Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
     """
     dof: typing.ClassVar[int] = 3
@@ -592,9 +589,9 @@ class SE2:
         """
         __mul__(*args, **kwargs)
         Overloaded function.
-
+        
         1. __mul__(self: boxplus._core.SE2, arg0: boxplus._core.SE2) -> boxplus._core.SE2
-
+        
         2. __mul__(self: boxplus._core.SE2, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
@@ -688,7 +685,7 @@ class SE2:
 class SE3:
     """
     Rigid transform (rotation R, position p) = R³ × SO(3), mapping local to parent.
-
+    
     Tangent order [δp (3), δθ (3)]: x + δ = (p + δp, R·exp(δθ)). Construct with
     SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
     """
@@ -698,9 +695,9 @@ class SE3:
         """
         __mul__(*args, **kwargs)
         Overloaded function.
-
+        
         1. __mul__(self: boxplus._core.SE3, arg0: boxplus._core.SE3) -> boxplus._core.SE3
-
+        
         2. __mul__(self: boxplus._core.SE3, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
@@ -810,7 +807,7 @@ class SE3:
 class S2:
     """
     Unit 3-vector (a direction), 2 DOF.
-
+    
     x + δ = cos|δ| x + sinc|δ| B δ, with B = tangent_basis() (3×2, orthonormal,
     orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
     """
@@ -992,7 +989,7 @@ class Problem:
     def solve(self, options: typing.Any = None, callback: typing.Any = None, **kwargs) -> SolveSummary:
         """
         Minimises ½ Σ ρ(‖rᵢ‖²) with ⊞ steps.
-
+        
         Parameters
         ----------
         options : SolverOptions, optional
@@ -1004,7 +1001,7 @@ class Problem:
         **overrides
             Fields of SolverOptions that replace those of ``options``
             (``nonmonotonic_steps=n`` sets both nonmonotonic fields).
-
+        
         Returns
         -------
         SolveSummary
@@ -1100,7 +1097,7 @@ class PoseGraph:
     """
     A pose graph read from a g2o/TORO file, as a boxplus Problem
     (boxplus::slam::PoseGraph; boxplus.slam.PoseGraph extends it).
-
+    
     ``PoseGraph(path, ...)`` reads, initialises and builds it in C++
     (boxplus::slam::LoadPoseGraph, the command line's path too); ``problem`` is the
     underlying ``boxplus.Problem`` (extend it, fix variables, solve it), its

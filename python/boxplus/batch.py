@@ -116,7 +116,7 @@ class RnBatch:
     def ambient(self) -> np.ndarray:
         return self.vec
 
-    def perturbed(self, direction: int, h: np.ndarray) -> RnBatch:
+    def perturbed(self, direction: int, h: np.ndarray) -> RnBatch | None:
         """This batch ⊞ (h · e_direction): h (N,) added to one coordinate."""
         v = self.vec.copy()
         v[:, direction] += h
@@ -152,8 +152,9 @@ class SO3Batch:
     """N rotations: ``.quat`` (N, 4) [x, y, z, w], ``.R`` (N, 3, 3)."""
 
     def __init__(self, quat: np.ndarray) -> None:
-        self._quat = np.asarray(quat, dtype=float)
-        self._R = None
+        # One of the two is always set; the other is computed when first asked for.
+        self._quat: np.ndarray | None = np.asarray(quat, dtype=float)
+        self._R: np.ndarray | None = None
 
     @classmethod
     def from_matrix(cls, R: np.ndarray) -> SO3Batch:
@@ -166,6 +167,7 @@ class SO3Batch:
     @property
     def quat(self) -> np.ndarray:
         if self._quat is None:
+            assert self._R is not None
             self._quat = matrix_to_quat(self._R)
         return self._quat
 
@@ -200,7 +202,9 @@ class SO3Batch:
         return SO3Batch.from_matrix(self.R @ _small_rotation(direction, h[0]))
 
     def __len__(self) -> int:
-        return (self._quat if self._quat is not None else self._R).shape[0]
+        stored = self._quat if self._quat is not None else self._R
+        assert stored is not None
+        return stored.shape[0]
 
 
 class SE2Batch:
@@ -312,7 +316,7 @@ class S2Batch(RnBatch):
 class CompoundBatch:
     """N values of a compound: each member is an attribute holding a batch."""
 
-    def __init__(self, cls: type, ambient: np.ndarray) -> None:
+    def __init__(self, cls: Any, ambient: np.ndarray) -> None:  # a compound class
         self._cls = cls
         self._ambient = ambient
         for m in cls._codec().parts():

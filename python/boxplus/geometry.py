@@ -159,7 +159,7 @@ def absolute_orientation(
     return (SE3(R, t), s) if scale else SE3(R, t)
 
 
-def look_at(eye: np.ndarray, target: np.ndarray, up: Sequence[float] = (0.0, 0.0, 1.0)) -> SE3:
+def look_at(eye: np.ndarray, target: np.ndarray, up: Sequence[float] | np.ndarray = (0.0, 0.0, 1.0)) -> SE3:
     """``world_from_cam`` of a camera at ``eye`` whose optical axis (z) points at ``target``.
 
     Camera axes: z = (target − eye)/‖·‖, x = z × up (normalised, image right),
@@ -272,7 +272,7 @@ def _zero(c) -> bool:
     return np.ndim(c) == 0 and c == 0
 
 
-def undistort(xd: np.ndarray, dist: Sequence[float], iters: int = 20) -> np.ndarray:
+def undistort(xd: np.ndarray, dist: Sequence[float] | np.ndarray, iters: int = 20) -> np.ndarray:
     """Normalised coordinates x (N, 2) with distort(x, *dist) ≈ xd (N, 2).
 
     Fixed-point iteration x ← (x_d − tangential(x)) / ρ(x) from x = x_d

@@ -278,14 +278,14 @@ class _CompoundCodec(Codec):
 
 _BUILTIN = (SO2, SO3, SE2, SE3, S2)
 _codec_cache: dict[tuple[Any, ...], Codec] = {}
-_LABELS = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
+_LABELS: dict[type, tuple[str, ...]] = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
 _CHARTS: dict[type, Callable[[Any], np.ndarray]] = {
     SE3: lambda v: np.concatenate([v.pos, v.rot.log()]),
     SO3: lambda v: v.log(),
 }
 
 
-def _builtin_codec(cls: type) -> Codec:
+def _builtin_codec(cls: Any) -> Codec:  # a bound class: SO3, SE3, S2, ...
     key = (cls,)
     if key not in _codec_cache:
         _codec_cache[key] = _BuiltinCodec(
@@ -304,7 +304,7 @@ def _rn_codec(n: int) -> Codec:
     return _codec_cache[key]
 
 
-def _python_codec(cls: type, ambient_size: int) -> Codec:
+def _python_codec(cls: type[ManifoldValue], ambient_size: int) -> Codec:
     key = (cls, ambient_size)
     if key not in _codec_cache:
 
@@ -394,7 +394,7 @@ class _CompoundBase(ManifoldValue):
             **{n: getattr(self, n) + delta[self.slice_of(n)] for n in self._members}
         )
 
-    def boxminus(self, other: _CompoundBase) -> np.ndarray:
+    def boxminus(self, other: ManifoldValue) -> np.ndarray:
         return np.concatenate([getattr(self, n) - getattr(other, n) for n in self._members])
 
     def to_ambient(self) -> np.ndarray:
@@ -438,7 +438,7 @@ class _CompoundBase(ManifoldValue):
         return (_rebuild_compound, (type(self), self.to_ambient()))
 
 
-def _rebuild_compound(cls: type, a: np.ndarray) -> Any:
+def _rebuild_compound(cls: type[ManifoldValue], a: np.ndarray) -> Any:
     return cls.from_ambient(a)
 
 
@@ -458,7 +458,7 @@ def _coerce_member(owner: str, name: str, proto: Any, v: Any) -> Any:
     raise TypeError(f"{owner}.{name}: expected a {type(proto).__name__}, got {type(v).__name__}")
 
 
-def make_compound(_name: str = "Compound", **members: Any) -> type:
+def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase]:
     """Declares a named compound (Cartesian product) manifold from prototypes.
 
     Parameters
@@ -529,5 +529,7 @@ def _so3_as_scipy(self: SO3) -> Any:
     return Rotation.from_quat(self.quat)
 
 
-SO3.from_scipy = staticmethod(_so3_from_scipy)
-SO3.as_scipy = _so3_as_scipy
+# The stub lists these two as methods of the bound class (stubgen imports the package, so
+# it sees them); mypy forbids assigning to a method, which is what this patch does.
+SO3.from_scipy = staticmethod(_so3_from_scipy)  # type: ignore[method-assign]
+SO3.as_scipy = _so3_as_scipy  # type: ignore[method-assign]

@@ -200,9 +200,10 @@ class CalibrationFactors:
             model = "rotation"
         else:
             n = self.codec(accel).ambient_size
-            model = {1: "scale", 4: "scale_bias"}.get(n)
-            if model is None:
+            named = {1: "scale", 4: "scale_bias"}.get(n)
+            if named is None:
                 raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
+            model = named
         nm = noise_model(3, sigma, covariance, information, noise, what)
         mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
                                      _vector(z, 3, "z", what), nm,
@@ -235,7 +236,7 @@ class CalibrationFactors:
         id of an Rn(3) variable."""
         what = _what(name, "point", self._count())
         if isinstance(p_in_world, (int, np.integer)):
-            ids = self._check_ids([world_from_rig, cam_from_rig, p_in_world], what)
+            ids = self._check_ids([world_from_rig, cam_from_rig, int(p_in_world)], what)
             pw, pid = np.zeros(3), ids[2]
         else:
             ids = self._check_ids([world_from_rig, cam_from_rig], what)

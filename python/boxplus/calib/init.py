@@ -87,7 +87,7 @@ def check_views(
 
 
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
-               dist: Sequence[float] = (0, 0, 0, 0, 0)) -> SE3:
+               dist: Sequence[float] | np.ndarray = (0, 0, 0, 0, 0)) -> SE3:
     """cam_from_board of a planar board (z = 0) seen by a calibrated camera (PnP by the
     homography of undistorted normalised points, Zhang eq. 12)."""
     obj = np.asarray(object_points, float)
@@ -99,7 +99,7 @@ def mean_pose(poses: Sequence[SE3]) -> SE3:
     """Chordal L2 mean of poses (mean translation, rotation projected to SO(3))."""
     if not poses:
         raise ValueError("mean_pose: no poses")
-    R = project_to_so3(sum(p.rot.R for p in poses), "mean_pose")
+    R = project_to_so3(np.sum([p.rot.R for p in poses], axis=0), "mean_pose")
     return SE3(SO3(R), np.mean([p.pos for p in poses], axis=0))
 
 
@@ -115,7 +115,9 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """R minimising Σ‖b_i − R a_i‖² (Kabsch / Wahba); a, b (N, 3). Raises when the
     directions are all parallel (the rotation about them is then undetermined)."""
     try:
-        return absolute_orientation(a, b, translation=False, what="rotation_between").rot.R
+        b_from_a = absolute_orientation(a, b, translation=False, what="rotation_between")
+        assert isinstance(b_from_a, SE3)  # without scale= it is a pose, not (pose, scale)
+        return b_from_a.rot.R
     except ValueError as e:
         if "parallel" not in str(e):
             raise

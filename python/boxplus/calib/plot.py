@@ -8,6 +8,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from boxplus.manifolds import SE3
+
 __all__ = ["plot_reprojection_errors", "plot_rig"]
 
 
@@ -29,10 +31,11 @@ def plot_reprojection_errors(o, path: str, mids: Mapping[str, Sequence[int]] | N
     """
     plt = _plt()
     if mids is None:
-        mids = {}
+        groups: dict[str, list[int]] = {}
         for mid in o.builtin_measurements():
             if o.measurement_group(mid) != "prior":
-                mids.setdefault(o.measurement_group(mid), []).append(mid)
+                groups.setdefault(o.measurement_group(mid), []).append(mid)
+        mids = groups
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     x0 = 0
     for label, ids in mids.items():
@@ -64,7 +67,7 @@ def _axes(ax, pose, length: float, label: str) -> None:
     ax.text(*t, label, fontsize=8)
 
 
-def plot_rig(path: str, frames: Mapping[str, object], boards: Sequence[tuple[object, np.ndarray]] = (),
+def plot_rig(path: str, frames: Mapping[str, SE3], boards: Sequence[tuple[SE3, np.ndarray]] = (),
              points: dict[str, np.ndarray] | None = None, length: float = 1.0,
              title: str = "rig") -> None:
     """The rig in one reference frame: ``frames`` {name: ref_from_frame (SE3)} drawn as

@@ -138,8 +138,8 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
     for vid in jac["variables"]:
         vals = _display_values(o, vid)
         for t, lab in enumerate(o.labels(vid)):
-            c = columns.index((vid, t))
-            params.append(Parameter(o.variable_name(vid), lab, float(vals[t]), float(np.sqrt(cov[c, c]))))
+            col = columns.index((vid, t))
+            params.append(Parameter(o.variable_name(vid), lab, float(vals[t]), float(np.sqrt(cov[col, col]))))
     errs = o.errors()
     rms = {g: float(np.sqrt(np.mean(np.sum(e**2, axis=1)))) for g, e in errs.items()}
     count = {g: len(e) for g, e in errs.items()}

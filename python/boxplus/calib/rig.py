@@ -174,12 +174,14 @@ def detect_corners(images: Sequence[np.ndarray], pattern_size: tuple[int, int]) 
     except ImportError:
         raise ImportError("corner detection needs opencv-python-headless: pip install "
                           "'opencv-python-headless<5'") from None
-    out = []
+    out: list[np.ndarray | None] = []
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
     for img in images:
-        gray = img if img.ndim == 2 else cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+        # Any: cv2's stubs take only integer/floating dtypes, an image arrives as any array.
+        gray: Any = img if img.ndim == 2 else cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+        # flags by keyword: the third positional argument is the output array `corners`.
         ok, c = cv2.findChessboardCorners(gray, tuple(pattern_size),
-                                          cv2.CALIB_CB_ADAPTIVE_THRESH | cv2.CALIB_CB_NORMALIZE_IMAGE)
+                                          flags=cv2.CALIB_CB_ADAPTIVE_THRESH | cv2.CALIB_CB_NORMALIZE_IMAGE)
         if not ok:
             out.append(None)
             continue

@@ -122,7 +122,8 @@ def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
 
 
 def init_camera(
-    object_points: np.ndarray, image_points: Sequence[np.ndarray], image_size: tuple[int, int]
+    object_points: np.ndarray | Sequence[np.ndarray], image_points: Sequence[np.ndarray],
+    image_size: tuple[int, int]
 ) -> tuple[np.ndarray, list[SE3]]:
     """K and one cam_from_board pose per view, from a planar target (z = 0).
 

@@ -427,7 +427,7 @@ class JointCalibration:
             return compute(b, extra, *args[K + per_row:])
 
         term.__name__ = name
-        term.keys = keys
+        term.keys = keys  # type: ignore[attr-defined]  # mypy has no way to declare a function's attribute
         return term
 
     @staticmethod

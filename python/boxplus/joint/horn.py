@@ -42,4 +42,6 @@ def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: np.ndarray | None = No
         On bad shapes, fewer than 3 points, or points on one line (the rotation
         about that line is then undetermined).
     """
-    return absolute_orientation(p_in_a, p_in_b, weights, what="horn")
+    b_from_a = absolute_orientation(p_in_a, p_in_b, weights, what="horn")
+    assert isinstance(b_from_a, SE3)  # without scale= it is a pose, not (pose, scale)
+    return b_from_a

@@ -119,6 +119,7 @@ def solve_with_restarts(
             r, cost = None, np.inf
         costs.append(cost)
         if np.isfinite(cost) and cost < best_cost:
+            assert r is not None  # a solve that raised has cost inf
             best_cost, best, best_X = cost, r, problem.X
     for v in free:
         problem.set_value(v, best_X[v])

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from os import PathLike
-from typing import Callable, Union
+from typing import Callable, SupportsIndex, SupportsInt, Union
 
 import numpy as np
 
@@ -53,11 +53,13 @@ class PoseGraph(_core.PoseGraph):
         return self.problem.value(self.variable(vertex_id))
 
     # -- extending ----------------------------------------------------------
-    def add_vertex(self, vertex_id: int, kind: str, estimate) -> int:
+    # The ids take what the binding's int conversion takes (the base class's signature).
+    def add_vertex(self, vertex_id: SupportsInt | SupportsIndex, kind: str, estimate) -> int:
         """Adds a vertex ``kind`` in {'SE2', 'SE3', 'XY', 'XYZ'}; returns its variable id."""
         return super().add_vertex(vertex_id, kind, np.asarray(estimate, float))
 
-    def add_edge(self, kind: str, from_id: int, to_id: int, measurement, information) -> int:
+    def add_edge(self, kind: str, from_id: SupportsInt | SupportsIndex, to_id: SupportsInt | SupportsIndex,
+                 measurement, information) -> int:
         """Adds an edge (saved with the graph); returns its measurement id.
 
         Parameters

@@ -196,18 +196,18 @@ def _manhattan(dim: int, n: int, rng: np.random.Generator, step: float, block: i
         starts.append(tuple(pos))
         rots.append(rot)
         pos[axis_of[rot]] += heading[rot][axis_of[rot]]
-    starts, rots = np.array(starts, np.int64), np.array(rots, np.int64)
+    start_of, rot_of = np.array(starts, np.int64), np.array(rots, np.int64)
     k = np.arange(segments * block)[:n]
     seg, off = k // block, k % block
-    dirs = np.array(heading)[rots[seg]]
-    lattice = starts[seg] * block + off[:, None] * dirs
+    dirs = np.array(heading)[rot_of[seg]]
+    lattice = start_of[seg] * block + off[:, None] * dirs
     positions = lattice * step
     if dim == 2:
         yaw = np.arctan2(dirs[:, 1], dirs[:, 0])
         poses = np.column_stack([positions, yaw])
     else:
         quats = se.quat_from_matrix(np.array(group, float))
-        poses = np.column_stack([positions, quats[rots[seg]]])
+        poses = np.column_stack([positions, quats[rot_of[seg]]])
     return Trajectory(poses, revisits(positions, radius * step, min_gap, rng))
 
 
