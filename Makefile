@@ -10,7 +10,7 @@ CPP_BUILD := build/cpp
 export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
-.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint bench fuzz clean sanitize
+.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
 
 demo: install
 	$(VPY) examples/demo.py
@@ -24,7 +24,7 @@ venv: deps
 	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
 	@$(VPY) -m pip install -q --disable-pip-version-check \
 	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
-	    "opencv-python-headless>=4.8,<5" ruff
+	    "opencv-python-headless>=4.8,<5" ruff pybind11-stubgen mypy
 
 # pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
 install: venv
@@ -48,9 +48,18 @@ consumer-test: cpp
 py-test: install
 	$(VPY) -m pytest -q
 
-# Pyflakes and pycodestyle errors (not style): unused names, undefined names, ...
+# The rule sets and the mypy settings are in pyproject.toml. mypy reads the
+# committed stub python/boxplus/_core.pyi, so it needs no built extension.
 lint: venv
-	$(VPY) -m ruff check --no-cache --select E,F,W --ignore E501,E741,E731 --extend-exclude python/boxplus/_core.pyi python tests examples bench
+	$(VPY) -m ruff check --no-cache python tests examples bench
+	$(VPY) -m mypy python/boxplus examples
+
+# Regenerates the committed stub of the extension from the installed module
+# (tests/python/test_stubs.py fails when the two differ).
+stubs: install
+	rm -rf build/stubs
+	$(VPY) -m pybind11_stubgen boxplus._core -o build/stubs
+	cp build/stubs/boxplus/_core.pyi python/boxplus/_core.pyi
 
 bench: install
 	$(VPY) -m pip install -q --disable-pip-version-check gtsam g2opy "opencv-python-headless<5" || true

@@ -12,10 +12,9 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+import boxplus as bp
 import cv2
 import numpy as np
-
-import boxplus as bp
 from boxplus.calib import calibrate_mono, calibrate_stereo, intrinsics_vector
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
@@ -50,8 +49,8 @@ def main() -> None:
     mono = {}
     for cam in ("left", "right"):
         for model in ("opencv5", "radial2", "radial1"):
-            cal, t_bp = timed(lambda: calibrate_mono(pts[cam], obj, size, model, name=cam))
-            (rms_cv, K, dist, _, _), t_cv = timed(lambda: cv2.calibrateCamera(
+            cal, t_bp = timed(lambda cam=cam, model=model: calibrate_mono(pts[cam], obj, size, model, name=cam))
+            (rms_cv, K, dist, _, _), t_cv = timed(lambda cam=cam, model=model: cv2.calibrateCamera(
                 o32, p32[cam], size, None, None, flags=CV_FLAGS[model]))
             rep = cal.report()
             k_cv = intrinsics_vector(K, model, dist.ravel())
@@ -63,12 +62,12 @@ def main() -> None:
     for fixed in (True, False):
         (Kl, dl), (Kr, dr) = mono["left"], mono["right"]
         flags = cv2.CALIB_FIX_INTRINSIC if fixed else cv2.CALIB_USE_INTRINSIC_GUESS
-        out, t_cv = timed(lambda: cv2.stereoCalibrate(o32, p32["left"], p32["right"], Kl, dl, Kr, dr,
-                                                      size, flags=flags, criteria=crit))
+        out, t_cv = timed(lambda Kl=Kl, dl=dl, Kr=Kr, dr=dr, flags=flags: cv2.stereoCalibrate(
+            o32, p32["left"], p32["right"], Kl, dl, Kr, dr, size, flags=flags, criteria=crit))
         rms_cv, _, _, _, _, Rcv, tcv = out[:7]
         fk = (intrinsics_vector(Kl, "opencv5", dl.ravel()), intrinsics_vector(Kr, "opencv5", dr.ravel()))
-        cal, t_bp = timed(lambda: calibrate_stereo(pts["left"], pts["right"], obj, size, "opencv5",
-                                                   fixed_intrinsics=fk if fixed else None))
+        cal, t_bp = timed(lambda fk=fk, fixed=fixed: calibrate_stereo(pts["left"], pts["right"], obj, size, "opencv5",
+                                                                 fixed_intrinsics=fk if fixed else None))
         rep = cal.report()
         right_from_left = cal.problem[cal.ids["right_from_left"]]
         delta = np.concatenate([right_from_left.pos - tcv.ravel(), (right_from_left.rot.inverse() * bp.SO3(Rcv)).log()])

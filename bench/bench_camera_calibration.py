@@ -14,14 +14,13 @@ import argparse
 import time
 from pathlib import Path
 
+import boxplus as bp
 import numpy as np
+from boxplus.calib import init_camera
+from boxplus.geometry import project_pinhole
 from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
 from scipy.spatial.transform import Rotation
-
-import boxplus as bp
-from boxplus.calib import init_camera
-from boxplus.geometry import project_pinhole
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
 intrinsic_t = bp.make_compound("intrinsic_t", focal_length=bp.Rn(1), offset=bp.Rn(2), distortion=bp.Rn(1))
@@ -38,7 +37,7 @@ def project_points(intrinsic, world_from_cam, p_in_world):
 
 def load():
     d = np.load(DATA)
-    obj, imgs = d["object_points"], [p for p in d["image_points_left"]]
+    obj, imgs = d["object_points"], list(d["image_points_left"])
     K, poses = init_camera(obj, imgs, tuple(d["image_size"]))
     return obj, imgs, K, [p.inverse() for p in poses], tuple(int(s) for s in d["image_size"])
 

@@ -40,7 +40,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 from boxplus.testing import g2o_reference as g2o_ref
 
 HERE = Path(__file__).resolve().parent
@@ -257,7 +256,7 @@ def main():
                 r["reach"] = reach
                 it = max(r["iterations"], 1)
                 print(f"{t:22s} {r['iterations']:5d} {1e3 * r['time_s'] / it:8.2f} "
-                      f"{r['time_s']:8.4f} {('%.4f' % reach) if reach is not None else '-':>9s} "
+                      f"{r['time_s']:8.4f} {(f'{reach:.4f}') if reach is not None else '-':>9s} "
                       f"{r['chi2']['g2o']:16.10g} {r['chi2']['log']:16.10g} {r['peak_mb']:7.1f}  "
                       f"{'yes' if r['chi2'][c] <= target else 'NO'} ({c})")
             for c in ("g2o", "log"):
@@ -275,7 +274,7 @@ def main():
                           f"gn-ls {ratios['gn-ls']}")
                     summary.append((name, c, ratios["default"], ratios["gn-ls"], fastest[1]))
                 else:
-                    mine = ", ".join(f"{k} {'%.4f s' % v if v is not None else 'no'}"
+                    mine = ", ".join(f"{k} {f'{v:.4f} s' if v is not None else 'no'}"
                                      for k, v in ours.items())
                     print(f"  {c}: best {best[c]:.10g}; no peer reached it (boxplus-g2o: {mine})")
                     summary.append((name, c, *("only boxplus" if v is not None else "none"

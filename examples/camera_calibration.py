@@ -22,9 +22,8 @@ import argparse
 import time
 from pathlib import Path
 
-import numpy as np
-
 import boxplus as bp
+import numpy as np
 from boxplus.calib import init_camera
 from boxplus.geometry import project_pinhole
 

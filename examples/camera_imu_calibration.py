@@ -15,15 +15,16 @@ Run: .venv/bin/python examples/camera_imu_calibration.py [--noise PX] [--out DIR
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
+import numpy as np
 from boxplus.calib import add_camera, check_views, init_camera, report, rotation_between
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
-TRUTH = dict(k=TRUE_K, imu_from_cam=bp.SE3(bp.SO3.exp(np.array([0.3, -1.2, 0.5])), [0.02, -0.05, 0.01]),
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(k=TRUE_K, imu_from_cam=bp.SE3(bp.SO3.exp(np.array([0.3, -1.2, 0.5])), [0.02, -0.05, 0.01]),
              accel=np.array([1.02, 0.05, -0.03, 0.02]))
 
 

@@ -10,9 +10,8 @@
    chi2 per iteration, the optimised .g2o and a before/after PNG in slam_output/.
 """
 
-import numpy as np
-
 import boxplus as bp
+import numpy as np
 
 
 def main() -> None:

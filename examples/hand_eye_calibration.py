@@ -18,14 +18,15 @@ Run: .venv/bin/python examples/hand_eye_calibration.py [--trials N]
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
+import numpy as np
 from boxplus.calib import board_pose, hand_eye_park, mean_pose, report
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
-TRUTH = dict(gripper_from_cam=bp.SE3(bp.SO3.exp(np.array([0.1, -0.2, 1.4])), [0.03, -0.05, 0.08]),
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(gripper_from_cam=bp.SE3(bp.SO3.exp(np.array([0.1, -0.2, 1.4])), [0.03, -0.05, 0.08]),
              base_from_board=bp.SE3(bp.SO3.exp(np.array([3.0, 0.1, 0.0])), [0.6, 0.1, 0.05]))
 
 
@@ -99,7 +100,7 @@ def errors(X):
 
 def compare(trials=20, seed=0, **noise):
     rng = np.random.default_rng(seed)
-    res = {}
+    res: dict[str, Any] = {}
     for _ in range(trials):
         data = simulate(rng, **noise)
         est = {"boxplus ML": calibrate(data)[2], **opencv_estimates(data)}

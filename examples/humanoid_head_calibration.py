@@ -38,13 +38,20 @@ Run: .venv/bin/python examples/humanoid_head_calibration.py [--noise PX] [--kine
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
-from boxplus.calib import (add_camera, init_camera, marker_hand_eye, relative_pose_init, report,
-                           rotation_between, triangulate)
-from boxplus.calib import synthetic
+import numpy as np
+from boxplus.calib import (
+    add_camera,
+    init_camera,
+    marker_hand_eye,
+    relative_pose_init,
+    report,
+    rotation_between,
+    synthetic,
+    triangulate,
+)
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 MODEL = "opencv5"
@@ -67,7 +74,8 @@ DH_SIGMA = np.tile([0.003, 0.002, 0.002, 0.003], 6)  # rad, m, m, rad
 DH_LABELS = [f"{n}{j + 1}" for j in range(6) for n in ("θ", "d", "a", "α")]
 
 _rng_truth = np.random.default_rng(2024)
-TRUTH = dict(
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(
     left=TRUE_K,
     right=np.array([524.0, 521.0, 317.0, 241.0, -0.27, 0.07, -0.0008, 0.0006, 0.0]),
     right_from_left=bp.SE3(bp.SO3.exp(np.array([0.004, -0.012, 0.003])), [-0.09, 0.0012, -0.0008]),
@@ -130,7 +138,7 @@ def _arm_poses(side, n, rng, batch=4000):
     """n random (q, pan, tilt) whose hand marker both cameras see (rejection sampling)."""
     from boxplus.calib.synthetic import project
 
-    out = []
+    out: list[tuple[np.ndarray, float, float]] = []  # (joint angles, pan, tilt)
     S, L2H, L2R = SHOULDER2TORSO[side], TRUTH["head_from_left"], TRUTH["right_from_left"]
     while len(out) < n:
         Q = rng.uniform(-np.pi, np.pi, (batch, 6))
@@ -238,7 +246,7 @@ def calibrate(data, kinematics="known", dh_prior=True):
             ids[f"dh_{side}"] = dh
             if dh_prior:
                 o.add_prior(dh, bp.Rn(DH_NOMINAL), sigma=DH_SIGMA, name=f"CAD dh_{side}")
-        for j, a in enumerate(arms[side]):
+        for _j, a in enumerate(arms[side]):
             for cam, cam_from_left, z in ((left, identity, a["z_left"]), (right, right_from_left, a["z_right"])):
                 if kinematics == "known":
                     o.add_marker(z, cam, head_from_left, ph, cam_from_left, a["head_from_hand"], sigma=data["marker_sigma"],

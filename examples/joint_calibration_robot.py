@@ -25,16 +25,23 @@ from __future__ import annotations
 import argparse
 import itertools
 import time
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
-from boxplus.joint import (
-    EXTRINSICS, ActiveTriangulation, JointCalibration, RobotArm, StereoPair, calibrate_incrementally,
-    camera, cross_validate, project,
-)
+import numpy as np
 from boxplus.batch import view
 from boxplus.geometry import look_at
+from boxplus.joint import (
+    EXTRINSICS,
+    ActiveTriangulation,
+    JointCalibration,
+    RobotArm,
+    StereoPair,
+    calibrate_incrementally,
+    camera,
+    cross_validate,
+    project,
+)
 from boxplus.manifolds import codec_of
 
 # ---- the true robot -------------------------------------------------------------------
@@ -137,7 +144,8 @@ def make_dataset(seed=0, n_boards=10, n_planes=5, points_per_plane=40):
     gx, gy = np.meshgrid(np.arange(BOARD[0]) * SQUARE, np.arange(BOARD[1]) * SQUARE)
     corners = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
     corners -= corners.mean(0)
-    boards, planes = [], []
+    boards: list[Any] = []
+    planes: list[Any] = []
     while len(boards) < n_boards:
         c, R = _random_patch_pose(rng)
         p = corners @ R.T + c

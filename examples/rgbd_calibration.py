@@ -37,17 +37,25 @@ Run: .venv/bin/python examples/rgbd_calibration.py [--noise PX] [--out DIR]
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
-from boxplus.calib import add_camera, init_camera, relative_pose_init, report, rotation_between, synthetic
+import numpy as np
+from boxplus.calib import (
+    add_camera,
+    init_camera,
+    relative_pose_init,
+    report,
+    rotation_between,
+    synthetic,
+)
 from boxplus.calib.synthetic import board_points, observe, random_views
 
 MODEL = "opencv5"
 SIZE = (640, 480)
 G_WORLD = np.array([0.0, 0.0, -9.81])
-TRUTH = dict(
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(
     rgb=np.array([525.0, 523.0, 319.5, 239.5, 0.18, -0.35, 0.001, -0.0007, 0.0]),
     ir=np.array([584.0, 582.0, 316.0, 247.0, -0.12, 0.28, -0.0012, 0.0008, 0.0]),
     ir_from_rgb=bp.SE3(bp.SO3.exp(np.array([0.003, 0.006, -0.002])), [0.025, 0.0006, -0.0012]),

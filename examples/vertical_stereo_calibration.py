@@ -27,10 +27,10 @@ Run: .venv/bin/python examples/vertical_stereo_calibration.py [--noise PX] [--no
 from __future__ import annotations
 
 import argparse
-
-import numpy as np
+from typing import Any
 
 import boxplus as bp
+import numpy as np
 from boxplus.calib import add_camera, init_camera, relative_pose_init, report, synthetic
 from boxplus.calib.synthetic import board_points, observe, random_views
 
@@ -38,7 +38,8 @@ MODEL = "radial2"
 SIZE = (640, 480)
 TILT = np.deg2rad(43.0)
 _top_from_bottom = bp.SE3(bp.SO3.exp(np.array([-TILT, 0.003, -0.002])), [0.001, 0.05, 0.002])
-TRUTH = dict(
+# Any: the true values of different manifolds (poses, intrinsics vectors, ...).
+TRUTH: dict[str, Any] = dict(
     top=np.array([556.0, 554.0, 322.0, 236.0, -0.07, 0.12]),
     bottom=np.array([549.0, 548.0, 315.0, 244.0, -0.05, 0.09]),
     bottom_from_top=_top_from_bottom.inverse(),
@@ -54,7 +55,7 @@ def _board():
 def simulate(rng, pixel_sigma=0.5, n_stereo=10, n_mono=6, min_points=12):
     p = _board()
     center = p.mean(axis=0)
-    stereo = []
+    stereo: list[dict[str, np.ndarray]] = []
     while len(stereo) < n_stereo:
         world_from_mid = random_views(1, rng, center, distance=rng.uniform(0.45, 0.6), spread=0.25)[0]
         world_from_top = world_from_mid * _mid_from_top
@@ -63,7 +64,7 @@ def simulate(rng, pixel_sigma=0.5, n_stereo=10, n_mono=6, min_points=12):
         zb, vb = observe(TRUTH["bottom"], world_from_bottom, p, pixel_sigma, rng, MODEL)
         if vt.sum() >= min_points and vb.sum() >= min_points:
             stereo.append(dict(z_top=zt, vis_top=vt, z_bottom=zb, vis_bottom=vb))
-    mono = {}
+    mono: dict[str, list[np.ndarray]] = {}
     for cam in ("top", "bottom"):
         mono[cam] = []
         while len(mono[cam]) < n_mono:

@@ -12,17 +12,18 @@ The main entry point is :class:`OptimizationProblem`::
     summary = p.solve()          # a SolveSummary; the estimates are p.X
 """
 
+from boxplus import batch, losses, measurements, noise, solver
 from boxplus._core import (
     BoxplusError,
     BoxplusIndexError,
+    IterationInfo,
     Loss,
     Manifold,
     NoiseModel,
     ParseError,
     Problem,
-    IterationInfo,
-    SolveSummary,
     SolverOptions,
+    SolveSummary,
     __version__,
     make_manifold,
     make_product_manifold,
@@ -40,7 +41,6 @@ from boxplus.manifolds import (
     make_compound,
 )
 from boxplus.problem import EvaluationError, OptimizationProblem
-from boxplus import batch, losses, measurements, noise, solver
 
 __all__ = [
     "S2",

@@ -25,11 +25,11 @@ Every batch has ``.ambient`` (N, ambient size), the solver's storage layout.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Optional
+from typing import Any, Callable
 
 import numpy as np
 
-from boxplus.manifolds import SE2, SE3, SO2, SO3, S2, Codec
+from boxplus.manifolds import S2, SE2, SE3, SO2, SO3, Codec
 
 __all__ = [
     "CompoundBatch",
@@ -116,7 +116,7 @@ class RnBatch:
     def ambient(self) -> np.ndarray:
         return self.vec
 
-    def perturbed(self, direction: int, h: np.ndarray) -> "RnBatch":
+    def perturbed(self, direction: int, h: np.ndarray) -> RnBatch | None:
         """This batch ⊞ (h · e_direction): h (N,) added to one coordinate."""
         v = self.vec.copy()
         v[:, direction] += h
@@ -152,11 +152,12 @@ class SO3Batch:
     """N rotations: ``.quat`` (N, 4) [x, y, z, w], ``.R`` (N, 3, 3)."""
 
     def __init__(self, quat: np.ndarray) -> None:
-        self._quat = np.asarray(quat, dtype=float)
-        self._R = None
+        # One of the two is always set; the other is computed when first asked for.
+        self._quat: np.ndarray | None = np.asarray(quat, dtype=float)
+        self._R: np.ndarray | None = None
 
     @classmethod
-    def from_matrix(cls, R: np.ndarray) -> "SO3Batch":
+    def from_matrix(cls, R: np.ndarray) -> SO3Batch:
         """From rotation matrices (N, 3, 3); the quaternions are computed when asked for."""
         b = cls.__new__(cls)
         b._quat = None
@@ -166,6 +167,7 @@ class SO3Batch:
     @property
     def quat(self) -> np.ndarray:
         if self._quat is None:
+            assert self._R is not None
             self._quat = matrix_to_quat(self._R)
         return self._quat
 
@@ -181,7 +183,7 @@ class SO3Batch:
     def ambient(self) -> np.ndarray:
         return self.quat
 
-    def inverse(self) -> "SO3Batch":
+    def inverse(self) -> SO3Batch:
         return SO3Batch(self.quat * np.array([-1.0, -1.0, -1.0, 1.0]))
 
     def __mul__(self, other: Any) -> Any:
@@ -193,14 +195,16 @@ class SO3Batch:
 
     __matmul__ = __mul__
 
-    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SO3Batch"]:
+    def perturbed(self, direction: int, h: np.ndarray) -> SO3Batch | None:
         """R · exp(h e_direction) when the step h (N,) is the same in every row; None otherwise."""
         if not np.all(h == h[0]):
             return None
         return SO3Batch.from_matrix(self.R @ _small_rotation(direction, h[0]))
 
     def __len__(self) -> int:
-        return (self._quat if self._quat is not None else self._R).shape[0]
+        stored = self._quat if self._quat is not None else self._R
+        assert stored is not None
+        return stored.shape[0]
 
 
 class SE2Batch:
@@ -238,12 +242,12 @@ class SE3Batch:
         self.rot = rot
 
     @classmethod
-    def from_ambient(cls, a: np.ndarray) -> "SE3Batch":
+    def from_ambient(cls, a: np.ndarray) -> SE3Batch:
         a = np.asarray(a, dtype=float)
         return cls(a[:, :3], SO3Batch(a[:, 3:7]))
 
     @classmethod
-    def from_Rt(cls, R: np.ndarray, t: np.ndarray) -> "SE3Batch":
+    def from_Rt(cls, R: np.ndarray, t: np.ndarray) -> SE3Batch:
         return cls(t, SO3Batch.from_matrix(R))
 
     @property
@@ -276,7 +280,7 @@ class SE3Batch:
         """Rᵀ (v − p) for each row."""
         return np.einsum("nji,nj->ni", self.R, _points(v, len(self), 3) - self.pos)
 
-    def inverse(self) -> "SE3Batch":
+    def inverse(self) -> SE3Batch:
         Rt = np.transpose(self.R, (0, 2, 1))
         return SE3Batch.from_Rt(Rt, -np.einsum("nij,nj->ni", Rt, self.pos))
 
@@ -288,7 +292,7 @@ class SE3Batch:
 
     __matmul__ = __mul__
 
-    def perturbed(self, direction: int, h: np.ndarray) -> Optional["SE3Batch"]:
+    def perturbed(self, direction: int, h: np.ndarray) -> SE3Batch | None:
         """This batch ⊞ (h · e_direction), tangent [translation, rotation], when the
         step h (N,) is the same in every row; None otherwise."""
         if direction < 3:
@@ -312,7 +316,7 @@ class S2Batch(RnBatch):
 class CompoundBatch:
     """N values of a compound: each member is an attribute holding a batch."""
 
-    def __init__(self, cls: type, ambient: np.ndarray) -> None:
+    def __init__(self, cls: Any, ambient: np.ndarray) -> None:  # a compound class
         self._cls = cls
         self._ambient = ambient
         for m in cls._codec().parts():
@@ -348,7 +352,7 @@ def view(codec: Codec, X: np.ndarray) -> Any:
     return codec.view(X)
 
 
-_BUILTIN_VIEWS: Dict[type, Callable[[np.ndarray], Any]] = {
+_BUILTIN_VIEWS: dict[type, Callable[[np.ndarray], Any]] = {
     SO2: lambda X: SO2Batch(X[:, 0]),
     SO3: SO3Batch,
     SE2: lambda X: SE2Batch(X[:, :2], X[:, 2]),

@@ -15,7 +15,7 @@ k1, k2, p1, p2, k3]; every one is OpenCV's model with the missing coefficients
 
 from __future__ import annotations
 
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -26,7 +26,7 @@ __all__ = [
     "project", "project_pinhole", "project_to_so3", "triangulate_midpoint", "undistort",
 ]
 
-CAMERA_LABELS: Dict[str, List[str]] = {
+CAMERA_LABELS: dict[str, list[str]] = {
     "simple_radial": ["f", "cx", "cy", "k1"],
     "pinhole": ["fx", "fy", "cx", "cy"],
     "radial1": ["fx", "fy", "cx", "cy", "k1"],
@@ -78,11 +78,11 @@ def project_to_so3(M: np.ndarray, what: str = "project_to_so3") -> np.ndarray:
 def absolute_orientation(
     p_in_a: np.ndarray,
     p_in_b: np.ndarray,
-    weights: Optional[np.ndarray] = None,
+    weights: np.ndarray | None = None,
     scale: bool = False,
     translation: bool = True,
     what: str = "absolute_orientation",
-) -> Union[SE3, Tuple[SE3, float]]:
+) -> SE3 | tuple[SE3, float]:
     """``b_from_a`` minimising Σ wᵢ ‖s R aᵢ + t − bᵢ‖² (Horn 1987, unit quaternions).
 
     Horn, "Closed-form solution of absolute orientation using unit
@@ -159,7 +159,7 @@ def absolute_orientation(
     return (SE3(R, t), s) if scale else SE3(R, t)
 
 
-def look_at(eye: np.ndarray, target: np.ndarray, up: Sequence[float] = (0.0, 0.0, 1.0)) -> SE3:
+def look_at(eye: np.ndarray, target: np.ndarray, up: Sequence[float] | np.ndarray = (0.0, 0.0, 1.0)) -> SE3:
     """``world_from_cam`` of a camera at ``eye`` whose optical axis (z) points at ``target``.
 
     Camera axes: z = (target − eye)/‖·‖, x = z × up (normalised, image right),
@@ -226,7 +226,7 @@ def triangulate_midpoint(c1: np.ndarray, d1: np.ndarray, c2: np.ndarray, d2: np.
 
 # ---- camera models ------------------------------------------------------------------
 
-def model_labels(model: str) -> List[str]:
+def model_labels(model: str) -> list[str]:
     """The names of a camera model's intrinsics, in order (ValueError for unknown models)."""
     try:
         return CAMERA_LABELS[model]
@@ -234,7 +234,7 @@ def model_labels(model: str) -> List[str]:
         raise ValueError(f"unknown camera model '{model}' (expected one of {sorted(CAMERA_LABELS)})") from None
 
 
-def camera_matrix(k: np.ndarray, model: str) -> Tuple[np.ndarray, np.ndarray]:
+def camera_matrix(k: np.ndarray, model: str) -> tuple[np.ndarray, np.ndarray]:
     """(K 3×3, OpenCV distortion [k1, k2, p1, p2, k3]) from a model's intrinsics vector."""
     labels = model_labels(model)
     k = np.asarray(k, dtype=float).reshape(-1)
@@ -272,7 +272,7 @@ def _zero(c) -> bool:
     return np.ndim(c) == 0 and c == 0
 
 
-def undistort(xd: np.ndarray, dist: Sequence[float], iters: int = 20) -> np.ndarray:
+def undistort(xd: np.ndarray, dist: Sequence[float] | np.ndarray, iters: int = 20) -> np.ndarray:
     """Normalised coordinates x (N, 2) with distort(x, *dist) ≈ xd (N, 2).
 
     Fixed-point iteration x ← (x_d − tangential(x)) / ρ(x) from x = x_d

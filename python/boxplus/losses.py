@@ -8,16 +8,16 @@ residual) or a ready :class:`boxplus.Loss`. Names are parsed in C++
 
 from __future__ import annotations
 
-from typing import Optional, Tuple, Union
+from typing import Union
 
 from boxplus import _core
 
 __all__ = ["LossSpec", "make_loss"]
 
-LossSpec = Union[None, str, Tuple[str, float], "_core.Loss"]
+LossSpec = Union[None, str, tuple[str, float], "_core.Loss"]
 
 
-def make_loss(spec: LossSpec, what: str) -> Optional["_core.Loss"]:
+def make_loss(spec: LossSpec, what: str) -> _core.Loss | None:
     """The :class:`boxplus.Loss` of ``spec`` (None: least squares).
 
     Raises ValueError naming ``what`` for an unknown name or a bad width.

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import abc
 from dataclasses import dataclass
-from typing import Any, Callable, ClassVar, Dict, List, Optional, Tuple
+from typing import Any, Callable, ClassVar
 
 import numpy as np
 
@@ -75,11 +75,11 @@ class ManifoldValue(abc.ABC):
     dof: ClassVar[int]
 
     @abc.abstractmethod
-    def boxplus(self, delta: np.ndarray) -> "ManifoldValue":
+    def boxplus(self, delta: np.ndarray) -> ManifoldValue:
         """x ⊞ δ."""
 
     @abc.abstractmethod
-    def boxminus(self, other: "ManifoldValue") -> np.ndarray:
+    def boxminus(self, other: ManifoldValue) -> np.ndarray:
         """self ⊟ other, a vector of ``dof`` numbers."""
 
     @abc.abstractmethod
@@ -88,7 +88,7 @@ class ManifoldValue(abc.ABC):
 
     @classmethod
     @abc.abstractmethod
-    def from_ambient(cls, a: np.ndarray) -> "ManifoldValue":
+    def from_ambient(cls, a: np.ndarray) -> ManifoldValue:
         """Inverse of :meth:`to_ambient`."""
 
     @property
@@ -98,7 +98,7 @@ class ManifoldValue(abc.ABC):
     def __len__(self) -> int:
         return self.dof
 
-    def __add__(self, delta: Any) -> "ManifoldValue":
+    def __add__(self, delta: Any) -> ManifoldValue:
         d = np.asarray(delta, dtype=float)
         if d.shape != (self.dof,):
             raise ValueError(
@@ -163,7 +163,7 @@ class Codec:
         """True when ⊞ is + and ⊟ is − on the ambient vector (Rⁿ)."""
         return False
 
-    def parts(self) -> Tuple["CodecPart", ...]:
+    def parts(self) -> tuple[CodecPart, ...]:
         """The members of a compound with their slices; () for other kinds."""
         return ()
 
@@ -174,7 +174,7 @@ class Codec:
         rotation-like kinds (their tangent is already scale-free)."""
         return np.ones((X.shape[0], self.dof))
 
-    def labels(self) -> List[str]:
+    def labels(self) -> list[str]:
         """Names of the tangent directions, for reports: "[i]" unless the kind
         names them (SE3: p.x … θ.z, compounds: their members)."""
         return [f"[{i}]" for i in range(self.dof)]
@@ -235,10 +235,10 @@ class _RnCodec(Codec):
 
 @dataclass(frozen=True)
 class _BuiltinCodec(Codec):
-    tangent_labels: Tuple[str, ...] = ()
-    chart: Optional[Callable[[Any], np.ndarray]] = None  # value → tangent at the identity
+    tangent_labels: tuple[str, ...] = ()
+    chart: Callable[[Any], np.ndarray] | None = None  # value → tangent at the identity
 
-    def labels(self) -> List[str]:
+    def labels(self) -> list[str]:
         return list(self.tangent_labels) or super().labels()
 
     def view(self, X: np.ndarray) -> Any:
@@ -252,16 +252,16 @@ class _BuiltinCodec(Codec):
 
 @dataclass(frozen=True)
 class _CompoundCodec(Codec):
-    members: Tuple[CodecPart, ...] = ()
+    members: tuple[CodecPart, ...] = ()
 
-    def parts(self) -> Tuple[CodecPart, ...]:
+    def parts(self) -> tuple[CodecPart, ...]:
         return self.members
 
     def tangent_scale(self, X: np.ndarray) -> np.ndarray:
         return np.concatenate([m.codec.tangent_scale(X[:, m.ambient]) for m in self.members], axis=1)
 
-    def labels(self) -> List[str]:
-        out: List[str] = []
+    def labels(self) -> list[str]:
+        out: list[str] = []
         for m in self.members:
             n = m.codec.dof
             out += [m.name] if n == 1 else [f"{m.name}[{i}]" for i in range(n)]
@@ -277,15 +277,15 @@ class _CompoundCodec(Codec):
 
 
 _BUILTIN = (SO2, SO3, SE2, SE3, S2)
-_codec_cache: Dict[Tuple[Any, ...], Codec] = {}
-_LABELS = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
-_CHARTS: Dict[type, Callable[[Any], np.ndarray]] = {
+_codec_cache: dict[tuple[Any, ...], Codec] = {}
+_LABELS: dict[type, tuple[str, ...]] = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
+_CHARTS: dict[type, Callable[[Any], np.ndarray]] = {
     SE3: lambda v: np.concatenate([v.pos, v.rot.log()]),
     SO3: lambda v: v.log(),
 }
 
 
-def _builtin_codec(cls: type) -> Codec:
+def _builtin_codec(cls: Any) -> Codec:  # a bound class: SO3, SE3, S2, ...
     key = (cls,)
     if key not in _codec_cache:
         _codec_cache[key] = _BuiltinCodec(
@@ -304,7 +304,7 @@ def _rn_codec(n: int) -> Codec:
     return _codec_cache[key]
 
 
-def _python_codec(cls: type, ambient_size: int) -> Codec:
+def _python_codec(cls: type[ManifoldValue], ambient_size: int) -> Codec:
     key = (cls, ambient_size)
     if key not in _codec_cache:
 
@@ -352,12 +352,12 @@ def codec_of(value: Any) -> Codec:
 class _CompoundBase(ManifoldValue):
     """Base of the classes made by :func:`make_compound`."""
 
-    _members: ClassVar[Tuple[str, ...]] = ()
-    _prototypes: ClassVar[Dict[str, Any]] = {}
-    _member_codecs: ClassVar[Dict[str, Codec]] = {}
-    _tangent_offsets: ClassVar[Dict[str, int]] = {}
-    _ambient_offsets: ClassVar[Dict[str, int]] = {}
-    _compound_codec: ClassVar[Optional[Codec]] = None
+    _members: ClassVar[tuple[str, ...]] = ()
+    _prototypes: ClassVar[dict[str, Any]] = {}
+    _member_codecs: ClassVar[dict[str, Codec]] = {}
+    _tangent_offsets: ClassVar[dict[str, int]] = {}
+    _ambient_offsets: ClassVar[dict[str, int]] = {}
+    _compound_codec: ClassVar[Codec | None] = None
     dof: ClassVar[int] = 0
 
     def __init__(self, **members: Any) -> None:
@@ -386,15 +386,15 @@ class _CompoundBase(ManifoldValue):
         return slice(start, start + cls._member_codecs[name].dof)
 
     @classmethod
-    def members(cls) -> Tuple[str, ...]:
+    def members(cls) -> tuple[str, ...]:
         return cls._members
 
-    def boxplus(self, delta: np.ndarray) -> "_CompoundBase":
+    def boxplus(self, delta: np.ndarray) -> _CompoundBase:
         return type(self)(
             **{n: getattr(self, n) + delta[self.slice_of(n)] for n in self._members}
         )
 
-    def boxminus(self, other: "_CompoundBase") -> np.ndarray:
+    def boxminus(self, other: ManifoldValue) -> np.ndarray:
         return np.concatenate([getattr(self, n) - getattr(other, n) for n in self._members])
 
     def to_ambient(self) -> np.ndarray:
@@ -403,7 +403,7 @@ class _CompoundBase(ManifoldValue):
         )
 
     @classmethod
-    def from_ambient(cls, a: np.ndarray) -> "_CompoundBase":
+    def from_ambient(cls, a: np.ndarray) -> _CompoundBase:
         a = np.asarray(a, dtype=float)
         out = {}
         for n in cls._members:
@@ -438,7 +438,7 @@ class _CompoundBase(ManifoldValue):
         return (_rebuild_compound, (type(self), self.to_ambient()))
 
 
-def _rebuild_compound(cls: type, a: np.ndarray) -> Any:
+def _rebuild_compound(cls: type[ManifoldValue], a: np.ndarray) -> Any:
     return cls.from_ambient(a)
 
 
@@ -458,7 +458,7 @@ def _coerce_member(owner: str, name: str, proto: Any, v: Any) -> Any:
     raise TypeError(f"{owner}.{name}: expected a {type(proto).__name__}, got {type(v).__name__}")
 
 
-def make_compound(_name: str = "Compound", **members: Any) -> type:
+def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase]:
     """Declares a named compound (Cartesian product) manifold from prototypes.
 
     Parameters
@@ -529,5 +529,7 @@ def _so3_as_scipy(self: SO3) -> Any:
     return Rotation.from_quat(self.quat)
 
 
-SO3.from_scipy = staticmethod(_so3_from_scipy)
-SO3.as_scipy = _so3_as_scipy
+# The stub lists these two as methods of the bound class (stubgen imports the package, so
+# it sees them); mypy forbids assigning to a method, which is what this patch does.
+SO3.from_scipy = staticmethod(_so3_from_scipy)  # type: ignore[method-assign]
+SO3.as_scipy = _so3_as_scipy  # type: ignore[method-assign]

@@ -16,7 +16,8 @@ for rotations). W is the measurement's NoiseModel whitening
 
 from __future__ import annotations
 
-from typing import Any, Callable, List, Optional, Sequence, Tuple
+from collections.abc import Sequence
+from typing import Any, Callable
 
 import numpy as np
 
@@ -59,7 +60,7 @@ def vector_error(y: Any, z: np.ndarray, what: str) -> np.ndarray:
     return a.reshape(z.size) - z
 
 
-def batch_errors(name: str, z_codec: Optional[Codec], m: int, Y: Any, Z: np.ndarray,
+def batch_errors(name: str, z_codec: Codec | None, m: int, Y: Any, Z: np.ndarray,
                  n: int) -> np.ndarray:
     """Y ⊟ Z row by row for the output Y of a vectorised function (N predictions)."""
     what = f"measurement group '{name}'"
@@ -84,7 +85,7 @@ class Group:
     """
 
     def __init__(self, problem: Any, f: Callable, name: str, vectorized: bool,
-                 z_codec: Optional[Codec], m: int, slot_codecs: Sequence[Codec]) -> None:
+                 z_codec: Codec | None, m: int, slot_codecs: Sequence[Codec]) -> None:
         self.problem = problem
         self.f = f
         self.name = name
@@ -92,24 +93,24 @@ class Group:
         self.z_codec = z_codec  # None: z is a plain vector, ⊟ is subtraction
         self.m = m
         self.slots = list(slot_codecs)
-        self.ids: List[Tuple[int, ...]] = []
-        self.z_rows: List[np.ndarray] = []
-        self.W_rows: List[np.ndarray] = []
-        self.const_rows: List[Tuple[Any, ...]] = []  # unbatched: per measurement
-        self.const_chunks: List[Tuple[Any, ...]] = []  # vectorized: per add call
-        self.meas_ids: List[int] = []
-        self.keepalive: List[Any] = []  # shared constants, whose ids are part of the group key
-        self._packed: Optional[Tuple[np.ndarray, np.ndarray, np.ndarray, Tuple[Any, ...]]] = None
-        self._shared_W: Optional[np.ndarray] = None
-        self._X: Optional[List[np.ndarray]] = None
-        self._R: Optional[np.ndarray] = None
-        self._J: Optional[List[np.ndarray]] = None
+        self.ids: list[tuple[int, ...]] = []
+        self.z_rows: list[np.ndarray] = []
+        self.W_rows: list[np.ndarray] = []
+        self.const_rows: list[tuple[Any, ...]] = []  # unbatched: per measurement
+        self.const_chunks: list[tuple[Any, ...]] = []  # vectorized: per add call
+        self.meas_ids: list[int] = []
+        self.keepalive: list[Any] = []  # shared constants, whose ids are part of the group key
+        self._packed: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[Any, ...]] | None = None
+        self._shared_W: np.ndarray | None = None
+        self._X: list[np.ndarray] | None = None
+        self._R: np.ndarray | None = None
+        self._J: list[np.ndarray] | None = None
         self.cache = _core.ResidualCache(self._prepare, m, [c.dof for c in self.slots], name)
         problem._core.add_residual_cache(self.cache)
 
     # ---- bookkeeping -----------------------------------------------------------------
-    def append(self, ids, z_rows, noises: Sequence["_core.NoiseModel"], consts, loss,
-               names) -> List[int]:
+    def append(self, ids, z_rows, noises: Sequence[_core.NoiseModel], consts, loss,
+               names) -> list[int]:
         """Adds measurements (rows of ids, z, noise; constants per row or per chunk)."""
         out = []
         for k in range(len(ids)):
@@ -150,7 +151,7 @@ class Group:
         return f"measurement '{name or self.name}' (id {mid}, function {self.name})"
 
     # ---- evaluation ------------------------------------------------------------------
-    def errors(self, Xs: Sequence[np.ndarray], views: Optional[List[Any]] = None) -> np.ndarray:
+    def errors(self, Xs: Sequence[np.ndarray], views: list[Any] | None = None) -> np.ndarray:
         """Unwhitened errors f(Y) ⊟ z, one row per measurement, at ambient values Xs
         (``views``: batches of Xs already built, None where still to build)."""
         _, Z, _, C = self._pack()
@@ -178,7 +179,7 @@ class Group:
                                   f"{self.z_codec.name} like z") from None
         return self.z_codec.manifold.minus(ya, z)
 
-    def current_values(self) -> List[np.ndarray]:
+    def current_values(self) -> list[np.ndarray]:
         ids, *_ = self._pack()
         return [self.problem._core.values(ids[:, k].tolist()) for k in range(len(self.slots))]
 
@@ -213,7 +214,7 @@ class Group:
             self._J = self._jacobians()
         return self._R, self._J
 
-    def _jacobians(self) -> List[np.ndarray]:
+    def _jacobians(self) -> list[np.ndarray]:
         Xs = self._X
         assert Xs is not None
         # The batches of the slots not being perturbed are built once.

@@ -20,7 +20,7 @@ so every RMS is in the measurement's own units.
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
@@ -48,7 +48,7 @@ def noise_model(
     sigma: Any = None,
     covariance: Any = None,
     information: Any = None,
-    noise: Optional[NoiseModel] = None,
+    noise: NoiseModel | None = None,
     what: str = "measurement",
 ) -> NoiseModel:
     """The NoiseModel of one measurement with a ``dim``-entry error.
@@ -101,7 +101,7 @@ def noise_models(
     sigma: Any = None,
     covariance: Any = None,
     information: Any = None,
-    noise: Optional[NoiseModel] = None,
+    noise: NoiseModel | None = None,
     what: str = "measurements",
 ) -> list:
     """One NoiseModel per row of a batch of ``n`` measurements.

@@ -23,7 +23,8 @@ with both. Every ``add_*`` takes the noise as ``sigma=`` (σ or σᵢ),
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, List, Optional, Sequence, Set, Tuple
+from collections.abc import Sequence
+from typing import Any, Callable
 
 import numpy as np
 
@@ -37,7 +38,7 @@ from boxplus.noise import NoiseModel, noise_model, noise_models
 __all__ = ["EvaluationError", "OptimizationProblem"]
 
 
-def _codec_or_none(v: Any) -> Optional[Codec]:
+def _codec_or_none(v: Any) -> Codec | None:
     try:
         return codec_of(v)
     except TypeError:
@@ -62,18 +63,18 @@ class OptimizationProblem(CalibrationFactors):
 
     def __init__(self) -> None:
         self._core = _core.Problem()
-        self._codecs: List[Codec] = []
-        self._groups: Dict[Tuple[Any, ...], Group] = {}
-        self._meas_group: Dict[int, str] = {}
-        self._python_mids: Set[int] = set()
-        self._labels: Dict[int, List[str]] = {}
-        self._touched: Set[int] = set()  # variables some measurement depends on
+        self._codecs: list[Codec] = []
+        self._groups: dict[tuple[Any, ...], Group] = {}
+        self._meas_group: dict[int, str] = {}
+        self._python_mids: set[int] = set()
+        self._labels: dict[int, list[str]] = {}
+        self._touched: set[int] = set()  # variables some measurement depends on
         self._touched_upto = 0  # measurements already counted in _touched
 
     # ---- variables -------------------------------------------------------------------
     def add_random_var(
-        self, value: Any, fixed: bool = False, name: Optional[str] = None,
-        labels: Optional[Sequence[str]] = None,
+        self, value: Any, fixed: bool = False, name: str | None = None,
+        labels: Sequence[str] | None = None,
     ) -> int:
         """Adds a variable with initial value ``value``; returns its id.
 
@@ -105,7 +106,7 @@ class OptimizationProblem(CalibrationFactors):
         self.codec(vid)
         return self._core.variable_name(int(vid))
 
-    def labels(self, vid: int) -> List[str]:
+    def labels(self, vid: int) -> list[str]:
         """Names of the tangent directions of variable ``vid`` (for reports)."""
         codec = self.codec(vid)
         return self._labels.get(int(vid)) or codec.labels()
@@ -123,7 +124,7 @@ class OptimizationProblem(CalibrationFactors):
         self._core.set_value(int(vid), codec.to_ambient(value))
 
     @property
-    def X(self) -> List[Any]:
+    def X(self) -> list[Any]:
         """Current values of all variables, in id order."""
         return [self.value(i) for i in range(len(self._codecs))]
 
@@ -149,7 +150,7 @@ class OptimizationProblem(CalibrationFactors):
         return self._core.is_fixed(int(vid))
 
     # ---- hooks for the measurement kinds (here and in calib/factors.py) -----------------
-    def _check_ids(self, ids: Any, what: str) -> List[int]:
+    def _check_ids(self, ids: Any, what: str) -> list[int]:
         """The variable ids of a measurement as ints: one id or a sequence of distinct ids."""
         if _is_id(ids):
             ids = [ids]
@@ -191,9 +192,9 @@ class OptimizationProblem(CalibrationFactors):
         sigma: Any = None,
         covariance: Any = None,
         information: Any = None,
-        noise: Optional[NoiseModel] = None,
+        noise: NoiseModel | None = None,
         loss: LossSpec = None,
-        name: Optional[str] = None,
+        name: str | None = None,
     ) -> int:
         """Adds one measurement with residual r = W (f(Y) ⊟ z).
 
@@ -255,9 +256,9 @@ class OptimizationProblem(CalibrationFactors):
         sigma: Any = None,
         covariance: Any = None,
         information: Any = None,
-        noise: Optional[NoiseModel] = None,
+        noise: NoiseModel | None = None,
         loss: LossSpec = None,
-        name: Optional[str] = None,
+        name: str | None = None,
     ) -> np.ndarray:
         """Adds N measurements evaluated together by a vectorised function.
 
@@ -334,7 +335,7 @@ class OptimizationProblem(CalibrationFactors):
             self._register(mid, fname)
         return np.asarray(mids)
 
-    def _z_parts(self, z: Any, what: str) -> Tuple[Optional[Codec], np.ndarray]:
+    def _z_parts(self, z: Any, what: str) -> tuple[Codec | None, np.ndarray]:
         c = _codec_or_none(z)
         if c is not None:
             return c, np.asarray(c.to_ambient(z), dtype=float)
@@ -350,7 +351,7 @@ class OptimizationProblem(CalibrationFactors):
             raise ValueError(f"{what}: z has non-finite entries")
         return None, arr
 
-    def _Z_parts(self, Z: Any, n: int, what: str) -> Tuple[Optional[Codec], np.ndarray, int]:
+    def _Z_parts(self, Z: Any, n: int, what: str) -> tuple[Codec | None, np.ndarray, int]:
         """(codec of the values or None, Z as ambient rows (n, ·), error size m)."""
         if isinstance(Z, (str, bytes, dict)) or np.iscomplexobj(Z):
             raise TypeError(f"{what}: Z must be an (N, m) array or a sequence of manifold values, "
@@ -382,8 +383,8 @@ class OptimizationProblem(CalibrationFactors):
 
     def add_prior(
         self, vid: int, z: Any, sigma: Any = None, covariance: Any = None,
-        information: Any = None, noise: Optional[NoiseModel] = None, loss: LossSpec = None,
-        name: Optional[str] = None,
+        information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
+        name: str | None = None,
     ) -> int:
         """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2)."""
         codec = self.codec(vid)
@@ -394,7 +395,7 @@ class OptimizationProblem(CalibrationFactors):
         mid = self._core.add_prior(int(vid), codec.to_ambient(z), nm, name or "", make_loss(loss, what))
         return self._register(mid, "prior")
 
-    def jacobian(self) -> Dict[str, Any]:
+    def jacobian(self) -> dict[str, Any]:
         """Whitened residuals and their dense Jacobian in the tangent spaces of the
         free variables (dict: residuals, jacobian, variables, column_offsets,
         row_offsets); for diagnostics such as :func:`boxplus.calib.report`."""
@@ -403,18 +404,18 @@ class OptimizationProblem(CalibrationFactors):
     def measurement_group(self, mid: int) -> str:
         return self._meas_group[int(mid)]
 
-    def builtin_measurements(self) -> List[int]:
+    def builtin_measurements(self) -> list[int]:
         """Ids of the C++ measurements (priors and built-in factors), in id order."""
         return [mid for mid in sorted(self._meas_group) if mid not in self._python_mids]
 
     # ---- solving ---------------------------------------------------------------------
     def solve(
         self,
-        options: Optional["_core.SolverOptions"] = None,
-        callback: Optional[Callable[["_core.IterationInfo"], Any]] = None,
+        options: _core.SolverOptions | None = None,
+        callback: Callable[[_core.IterationInfo], Any] | None = None,
         verbose: bool = False,
         **overrides: Any,
-    ) -> "_core.SolveSummary":
+    ) -> _core.SolveSummary:
         """Minimises ½ Σ ρ(‖rᵢ‖²) and writes the estimates back (``self.X``).
 
         Parameters
@@ -486,10 +487,10 @@ class OptimizationProblem(CalibrationFactors):
         """A C++ measurement's error or residual as rows of its noise's dimension."""
         return values.reshape(-1, self._core.noise(mid).dim)
 
-    def errors(self) -> Dict[str, np.ndarray]:
+    def errors(self) -> dict[str, np.ndarray]:
         """Unwhitened errors f(Y) ⊟ z of every measurement, per group, in the
         measurements' own units (rows: one per measured vector or point)."""
-        out: Dict[str, List[np.ndarray]] = {}
+        out: dict[str, list[np.ndarray]] = {}
         for g in self._groups.values():
             if g.meas_ids:
                 out.setdefault(g.name, []).append(g.errors(g.current_values()))
@@ -501,10 +502,10 @@ class OptimizationProblem(CalibrationFactors):
         """Unwhitened errors of one C++ measurement (rows: one per point/vector)."""
         return self._cpp_rows(int(mid), self._core.error(int(mid)))
 
-    def residuals(self) -> Dict[str, np.ndarray]:
+    def residuals(self) -> dict[str, np.ndarray]:
         """Whitened residuals of every measurement, grouped by function name (C++
         measurements: by their kind, e.g. 'prior')."""
-        out: Dict[str, List[np.ndarray]] = {}
+        out: dict[str, list[np.ndarray]] = {}
         for g in self._groups.values():
             if g.meas_ids:
                 out.setdefault(g.name, []).append(g.whitened(g.errors(g.current_values())))
@@ -512,7 +513,7 @@ class OptimizationProblem(CalibrationFactors):
             out.setdefault(self._meas_group[mid], []).append(self._cpp_rows(mid, self._core.residual(mid)))
         return {k: np.concatenate(v) for k, v in out.items()}
 
-    def rms(self, whitened: bool = False) -> Dict[str, float]:
+    def rms(self, whitened: bool = False) -> dict[str, float]:
         """RMS error per measurement group: sqrt(mean over rows of ‖e‖²), in the
         measurements' own units (e.g. pixels), or of the whitened residuals."""
         res = self.residuals() if whitened else self.errors()

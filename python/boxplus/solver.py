@@ -10,7 +10,7 @@ the same everywhere.
 
 from __future__ import annotations
 
-from typing import Any, Callable, Optional
+from typing import Any, Callable
 
 from boxplus import _core
 
@@ -23,8 +23,8 @@ SolveSummary = _core.SolveSummary
 
 def run(
     problem: _core.Problem,
-    options: Optional[SolverOptions] = None,
-    callback: Optional[Callable[[IterationInfo], Any]] = None,
+    options: SolverOptions | None = None,
+    callback: Callable[[IterationInfo], Any] | None = None,
     verbose: bool = False,
     **overrides: Any,
 ) -> SolveSummary:

@@ -2,11 +2,10 @@
 
 import os
 
+import boxplus as bp
 import numpy as np
 from hypothesis import settings
 from hypothesis import strategies as st
-
-import boxplus as bp
 
 settings.register_profile("boxplus", max_examples=200, deadline=None)
 # CI runs a fixed set of examples (reproducible); locally each run explores anew.

@@ -1,10 +1,9 @@
 """The point, disparity and DH-marker factors from Python: residuals against
 independent numpy references, and recovery of known parameters by the solver."""
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 
 
 def rot(axis, angle):

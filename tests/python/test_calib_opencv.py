@@ -5,7 +5,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from boxplus.calib import calibrate_mono, calibrate_stereo, intrinsics_vector
 
 cv2 = pytest.importorskip("cv2")

@@ -6,10 +6,9 @@ import importlib.util
 import sys
 from pathlib import Path
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 from boxplus.calib import report
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -66,7 +65,7 @@ def test_hand_eye_ml_beats_every_opencv_closed_form():
     rms = ex.compare(trials=8, seed=3)
     ml = rms.pop("boxplus ML")
     assert len(rms) == 7  # 5 calibrateHandEye + 2 calibrateRobotWorldHandEye methods
-    for name, (et, er) in rms.items():
+    for name, (et, _er) in rms.items():
         assert ml[0] <= et, f"{name}: translation {et} < boxplus {ml[0]}"
     assert ml[0] < 0.75 * min(et for et, _ in rms.values())
 

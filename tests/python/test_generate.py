@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-
 from boxplus import slam
 from boxplus.slam import se_arrays as se
 from boxplus.slam.generate import (
@@ -13,8 +12,8 @@ from boxplus.slam.generate import (
     generate,
     main,
 )
-from boxplus.testing.g2o_reference import edge_errors, read_g2o_arrays
 from boxplus.slam.trajectories import FAMILIES
+from boxplus.testing.g2o_reference import edge_errors, read_g2o_arrays
 
 CASES = [(family, dim) for family in FAMILIES for dim in (2, 3)]
 

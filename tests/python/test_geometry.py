@@ -1,12 +1,11 @@
 """boxplus.geometry against independent references: scipy's Rotation, OpenCV's
 projectPoints, the C++ pinhole factors, and degenerate cases that must raise."""
 
+import boxplus as bp
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
-
-import boxplus as bp
 from boxplus import geometry as g
+from scipy.spatial.transform import Rotation
 
 SEEDS = range(5)
 

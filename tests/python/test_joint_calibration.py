@@ -4,12 +4,16 @@ and the synthetic robot of examples/joint_calibration_robot.py."""
 import importlib.util
 from pathlib import Path
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 from boxplus.joint import (
-    JointCalibration, Plane, RangeFinder, RobotArm, kfold, solve_with_restarts,
+    JointCalibration,
+    Plane,
+    RangeFinder,
+    RobotArm,
+    kfold,
+    solve_with_restarts,
 )
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "joint_calibration_robot.py"
@@ -96,7 +100,7 @@ def test_coplanar_groups_estimate_the_plane():
 def test_random_restarts_never_return_a_worse_cost_than_a_single_solve():
     """A multimodal problem: x ∈ R with residuals sin(3x) and 0.1 x."""
     for seed in range(10):
-        def make():
+        def make(seed=seed):
             p = bp.OptimizationProblem()
             x = p.add_random_var(bp.Rn([2.0 + seed * 0.3]))
             p.add_measurement([0.0, 0.0], lambda v: np.r_[np.sin(3 * v.vec[0]), 0.1 * v.vec[0]], [x])

@@ -1,11 +1,10 @@
 """Horn's closed-form absolute orientation (boxplus.joint.horn)."""
 
+import boxplus as bp
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
-
-import boxplus as bp
 from boxplus.joint import horn
+from scipy.spatial.transform import Rotation
 
 
 def _transform(seed):

@@ -1,10 +1,9 @@
 """3D systems: I(α, u) against independent geometry, and the Jacobians the solver
 takes by central differences against analytic or extrapolated references."""
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 from boxplus.batch import view
 from boxplus.joint import ActiveTriangulation, RangeFinder, RobotArm, StereoPair, camera, project
 from boxplus.manifolds import codec_of

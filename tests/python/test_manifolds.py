@@ -1,13 +1,12 @@
 """⊞/⊟ axioms, Jacobians and group identities of every manifold, from Python."""
 
+import boxplus as bp
 import numpy as np
 import pytest
 from conftest import POINTS, delta_for, rotation_vector
 from hypothesis import given
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
-
-import boxplus as bp
 
 KINDS = sorted(POINTS)
 

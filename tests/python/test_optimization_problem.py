@@ -4,13 +4,12 @@ vectorised), compounds, user-defined manifolds, errors, interruption."""
 import traceback
 from pathlib import Path
 
+import boxplus as bp
 import numpy as np
 import pytest
 from conftest import POINTS, delta_for
 from hypothesis import given
 from scipy.spatial.transform import Rotation
-
-import boxplus as bp
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "calib" / "opencv_stereo_corners.npz"
 

@@ -1,9 +1,8 @@
 """End-to-end smoke tests of the solver through the bindings."""
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 
 
 def test_symmetric_rotation_average_is_the_centre():

@@ -9,10 +9,9 @@ import sys
 import textwrap
 import threading
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 from boxplus import slam
 
 
@@ -128,7 +127,7 @@ def test_errors_of_one_threads_solve_never_reach_another():
     for attempt in range(25):
         calls = []
 
-        def failing(v):
+        def failing(v, calls=calls, attempt=attempt):
             calls.append(1)
             if len(calls) > 3 + attempt % 5:
                 raise KeyError(f"failing thread, attempt {attempt}")

@@ -10,11 +10,10 @@ not need the peers installed; the live cross-checks at the end do.
 import subprocess
 from pathlib import Path
 
-import numpy as np
-import pytest
-
 import boxplus as bp
 import boxplus.slam as slam
+import numpy as np
+import pytest
 from boxplus.testing import boxplus_g2o
 from boxplus.testing import g2o_reference as g2o_ref
 

@@ -10,7 +10,6 @@ import tempfile
 from pathlib import Path
 
 import pytest
-
 from boxplus.testing import boxplus_g2o, fuzz
 
 DATA = Path(__file__).resolve().parents[1] / "data"

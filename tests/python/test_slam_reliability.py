@@ -8,11 +8,10 @@ import signal
 import subprocess
 from pathlib import Path
 
-import numpy as np
-import pytest
-
 import boxplus as bp
 import boxplus.slam as slam
+import numpy as np
+import pytest
 from boxplus.testing import boxplus_g2o
 
 DATA = Path(__file__).resolve().parents[1] / "data"

@@ -5,10 +5,9 @@ import copy
 import io
 import pickle
 
+import boxplus as bp
 import numpy as np
 import pytest
-
-import boxplus as bp
 from boxplus import _core
 
 

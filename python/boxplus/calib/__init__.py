@@ -16,28 +16,34 @@
 Frames are named ``b_from_a`` (maps a-coordinates to b), points ``p_in_b``.
 """
 
-from boxplus.calib.zhang import (
-    homography,
-    init_camera,
-    intrinsics_from_homographies,
-    pose_from_homography,
-)
 from boxplus.calib.init import (
     CAMERA_LABELS,
     board_pose,
     camera_matrix,
     check_views,
     hand_eye_park,
-    marker_hand_eye,
     intrinsics_vector,
+    marker_hand_eye,
     mean_pose,
     relative_pose_init,
     robot_world_hand_eye,
     rotation_between,
     triangulate,
 )
-from boxplus.calib.rig import Calibration, add_camera, calibrate_mono, calibrate_stereo, detect_corners
 from boxplus.calib.report import CalibrationReport, report
+from boxplus.calib.rig import (
+    Calibration,
+    add_camera,
+    calibrate_mono,
+    calibrate_stereo,
+    detect_corners,
+)
+from boxplus.calib.zhang import (
+    homography,
+    init_camera,
+    intrinsics_from_homographies,
+    pose_from_homography,
+)
 
 __all__ = [
     "CAMERA_LABELS", "Calibration", "CalibrationReport", "add_camera", "board_pose",

@@ -22,7 +22,8 @@ This module imports only ``_core``, ``noise``, ``manifolds`` and ``losses``
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, List, Optional, Sequence
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -34,7 +35,7 @@ from boxplus.noise import NoiseModel, noise_model
 __all__ = ["CalibrationFactors"]
 
 
-def _what(name: Optional[str], kind: str, number: int) -> str:
+def _what(name: str | None, kind: str, number: int) -> str:
     return f"measurement '{name}'" if name else f"{kind} #{number}"
 
 
@@ -61,7 +62,7 @@ class CalibrationFactors:
     if TYPE_CHECKING:  # the hooks the host class (OptimizationProblem) provides
         _core: Any
 
-        def _check_ids(self, ids: Sequence[int], what: str) -> List[int]: ...
+        def _check_ids(self, ids: Sequence[int], what: str) -> list[int]: ...
 
         def codec(self, vid: int) -> Any: ...
 
@@ -85,8 +86,8 @@ class CalibrationFactors:
     def add_projection(
         self, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
         sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, model: str = "simple_radial", loss: LossSpec = None,
-        name: Optional[str] = None,
+        noise: NoiseModel | None = None, model: str = "simple_radial", loss: LossSpec = None,
+        name: str | None = None,
     ) -> int:
         """One known point seen by a camera (factors/camera/point_projection.h).
 
@@ -109,8 +110,8 @@ class CalibrationFactors:
     def add_board(
         self, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
         sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
-        name: Optional[str] = None, group: Optional[str] = None,
+        noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+        name: str | None = None, group: str | None = None,
     ) -> int:
         """All visible points of a board in one C++ factor (factors/camera/board.h).
 
@@ -140,8 +141,8 @@ class CalibrationFactors:
     def add_marker(
         self, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
         base_from_hand: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
-        name: Optional[str] = None, group: Optional[str] = None,
+        noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+        name: str | None = None, group: str | None = None,
     ) -> int:
         """A marker on a hand, ``base_from_hand`` (SE3) from forward kinematics
         (factors/kinematics/marker.h): r = W (π(k, cam_from_rig · base_from_rig⁻¹ ·
@@ -159,8 +160,8 @@ class CalibrationFactors:
         self, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
         dh: int, joints: Any, base_from_chain: Any = None, flange_from_hand: Any = None,
         sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, model: str = "opencv5", loss: LossSpec = None,
-        name: Optional[str] = None, group: Optional[str] = None,
+        noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+        name: str | None = None, group: str | None = None,
     ) -> int:
         """A marker through a DH chain with unknown link parameters ``dh`` (an Rn(4n)
         variable: per joint [θ offset, d, a, α]) and joint readings ``joints`` (rad):
@@ -183,10 +184,10 @@ class CalibrationFactors:
 
     # ---- IMU -------------------------------------------------------------------------
     def add_gravity(
-        self, z: Any, world_from_rig: int, imu_from_rig: int, accel: Optional[int] = None,
+        self, z: Any, world_from_rig: int, imu_from_rig: int, accel: int | None = None,
         g_in_world: Any = (0.0, 0.0, -9.81), sigma: Any = None, covariance: Any = None,
-        information: Any = None, noise: Optional[NoiseModel] = None, loss: LossSpec = None,
-        name: Optional[str] = None, group: str = "gravity",
+        information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
+        name: str | None = None, group: str = "gravity",
     ) -> int:
         """Gravity read by an accelerometer (factors/imu/gravity.h):
         r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z), m/s².
@@ -199,9 +200,10 @@ class CalibrationFactors:
             model = "rotation"
         else:
             n = self.codec(accel).ambient_size
-            model = {1: "scale", 4: "scale_bias"}.get(n)
-            if model is None:
+            named = {1: "scale", 4: "scale_bias"}.get(n)
+            if named is None:
                 raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
+            model = named
         nm = noise_model(3, sigma, covariance, information, noise, what)
         mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
                                      _vector(z, 3, "z", what), nm,
@@ -212,8 +214,8 @@ class CalibrationFactors:
     # ---- pose ------------------------------------------------------------------------
     def add_relative_pose(
         self, a_from_b: Any, world_from_a: int, world_from_b: int, sigma: Any = None,
-        covariance: Any = None, information: Any = None, noise: Optional[NoiseModel] = None,
-        loss: LossSpec = None, name: Optional[str] = None, group: str = "relative_pose",
+        covariance: Any = None, information: Any = None, noise: NoiseModel | None = None,
+        loss: LossSpec = None, name: str | None = None, group: str = "relative_pose",
     ) -> int:
         """r = W ((world_from_a⁻¹ · world_from_b) ⊟ a_from_b), tangent [δp, δθ]
         (6-dim noise; factors/relative_pose.h)."""
@@ -226,15 +228,15 @@ class CalibrationFactors:
 
     def add_point(
         self, z: Any, world_from_rig: int, cam_from_rig: int, p_in_world: Any, sigma: Any = None,
-        covariance: Any = None, information: Any = None, noise: Optional[NoiseModel] = None,
-        loss: LossSpec = None, name: Optional[str] = None, group: str = "point",
+        covariance: Any = None, information: Any = None, noise: NoiseModel | None = None,
+        loss: LossSpec = None, name: str | None = None, group: str = "point",
     ) -> int:
         """A 3-D point measured in a sensor: r = W (cam_from_rig · world_from_rig⁻¹ ·
         p_in_world − z) (factors/point.h); ``p_in_world`` a known point (3,) or the
         id of an Rn(3) variable."""
         what = _what(name, "point", self._count())
         if isinstance(p_in_world, (int, np.integer)):
-            ids = self._check_ids([world_from_rig, cam_from_rig, p_in_world], what)
+            ids = self._check_ids([world_from_rig, cam_from_rig, int(p_in_world)], what)
             pw, pid = np.zeros(3), ids[2]
         else:
             ids = self._check_ids([world_from_rig, cam_from_rig], what)
@@ -248,7 +250,7 @@ class CalibrationFactors:
     def add_disparity(
         self, d: float, world_from_rig: int, cam_from_rig: int, disparity_params: int,
         p_in_world: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
-        noise: Optional[NoiseModel] = None, loss: LossSpec = None, name: Optional[str] = None,
+        noise: NoiseModel | None = None, loss: LossSpec = None, name: str | None = None,
         group: str = "disparity",
     ) -> int:
         """Kinect-style disparity d = a / Z + b of a board point (factors/depth/disparity.h);

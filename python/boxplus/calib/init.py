@@ -19,14 +19,22 @@ Poses are boxplus SE3 values, tangent order [translation, rotation].
 
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 
-from boxplus.geometry import (CAMERA_LABELS, absolute_orientation, camera_matrix, model_labels, pixel_rays,
-                              project_to_so3, triangulate_midpoint, undistort)
-from boxplus.manifolds import SE3, SO3
 from boxplus.calib.zhang import homography, init_camera, pose_from_homography
+from boxplus.geometry import (
+    CAMERA_LABELS,
+    absolute_orientation,
+    camera_matrix,
+    model_labels,
+    pixel_rays,
+    project_to_so3,
+    triangulate_midpoint,
+    undistort,
+)
+from boxplus.manifolds import SE3, SO3
 
 __all__ = [
     "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "init_camera",
@@ -44,9 +52,9 @@ def intrinsics_vector(K: np.ndarray, model: str, dist: Sequence[float] = ()) -> 
 
 
 def check_views(
-    image_points: Sequence[np.ndarray], object_points: np.ndarray, image_size: Tuple[int, int],
+    image_points: Sequence[np.ndarray], object_points: np.ndarray, image_size: tuple[int, int],
     camera: str = "camera", min_views: int = 3,
-) -> List[np.ndarray]:
+) -> list[np.ndarray]:
     """Validates the detections of one camera; returns them as float arrays.
 
     Raises ValueError naming the camera and the view for: too few views, a view
@@ -79,7 +87,7 @@ def check_views(
 
 
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
-               dist: Sequence[float] = (0, 0, 0, 0, 0)) -> SE3:
+               dist: Sequence[float] | np.ndarray = (0, 0, 0, 0, 0)) -> SE3:
     """cam_from_board of a planar board (z = 0) seen by a calibrated camera (PnP by the
     homography of undistorted normalised points, Zhang eq. 12)."""
     obj = np.asarray(object_points, float)
@@ -91,7 +99,7 @@ def mean_pose(poses: Sequence[SE3]) -> SE3:
     """Chordal L2 mean of poses (mean translation, rotation projected to SO(3))."""
     if not poses:
         raise ValueError("mean_pose: no poses")
-    R = project_to_so3(sum(p.rot.R for p in poses), "mean_pose")
+    R = project_to_so3(np.sum([p.rot.R for p in poses], axis=0), "mean_pose")
     return SE3(SO3(R), np.mean([p.pos for p in poses], axis=0))
 
 
@@ -107,7 +115,9 @@ def rotation_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """R minimising Σ‖b_i − R a_i‖² (Kabsch / Wahba); a, b (N, 3). Raises when the
     directions are all parallel (the rotation about them is then undetermined)."""
     try:
-        return absolute_orientation(a, b, translation=False, what="rotation_between").rot.R
+        b_from_a = absolute_orientation(a, b, translation=False, what="rotation_between")
+        assert isinstance(b_from_a, SE3)  # without scale= it is a pose, not (pose, scale)
+        return b_from_a.rot.R
     except ValueError as e:
         if "parallel" not in str(e):
             raise
@@ -141,7 +151,7 @@ def hand_eye_park(base_from_gripper: Sequence[SE3], cam_from_target: Sequence[SE
     return SE3(SO3(R), t)
 
 
-def robot_world_hand_eye(base_from_gripper: Sequence[SE3], cam_from_target: Sequence[SE3]) -> Tuple[SE3, SE3]:
+def robot_world_hand_eye(base_from_gripper: Sequence[SE3], cam_from_target: Sequence[SE3]) -> tuple[SE3, SE3]:
     """(gripper_from_cam X, base_from_target Z) from G_i X T_i = Z: X by Park–Martin, then
     Z as the mean of G_i X T_i."""
     X = hand_eye_park(base_from_gripper, cam_from_target)
@@ -164,7 +174,7 @@ def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarr
 
 
 def marker_hand_eye(p_in_rig: Sequence[np.ndarray], base_from_hand: Sequence[Sequence[SE3]]
-                    ) -> Tuple[SE3, List[np.ndarray]]:
+                    ) -> tuple[SE3, list[np.ndarray]]:
     """(base_from_rig, [p_in_hand per hand]) from markers seen in a sensor frame x.
 
     For hand h and arm pose i the marker p_h (fixed on the hand, unknown) is

@@ -4,9 +4,11 @@ poses, IMU, hand markers)."""
 
 from __future__ import annotations
 
-from typing import Dict, Mapping, Optional, Sequence, Tuple
+from collections.abc import Mapping, Sequence
 
 import numpy as np
+
+from boxplus.manifolds import SE3
 
 __all__ = ["plot_reprojection_errors", "plot_rig"]
 
@@ -20,7 +22,7 @@ def _plt():
     return plt
 
 
-def plot_reprojection_errors(o, path: str, mids: Optional[Mapping[str, Sequence[int]]] = None,
+def plot_reprojection_errors(o, path: str, mids: Mapping[str, Sequence[int]] | None = None,
                              title: str = "reprojection errors") -> None:
     """Per image (one built-in board/marker measurement each) the RMS error, and
     all error vectors as a scatter, one colour per group.
@@ -29,10 +31,11 @@ def plot_reprojection_errors(o, path: str, mids: Optional[Mapping[str, Sequence[
     """
     plt = _plt()
     if mids is None:
-        mids = {}
+        groups: dict[str, list[int]] = {}
         for mid in o.builtin_measurements():
             if o.measurement_group(mid) != "prior":
-                mids.setdefault(o.measurement_group(mid), []).append(mid)
+                groups.setdefault(o.measurement_group(mid), []).append(mid)
+        mids = groups
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     x0 = 0
     for label, ids in mids.items():
@@ -64,8 +67,8 @@ def _axes(ax, pose, length: float, label: str) -> None:
     ax.text(*t, label, fontsize=8)
 
 
-def plot_rig(path: str, frames: Mapping[str, object], boards: Sequence[Tuple[object, np.ndarray]] = (),
-             points: Optional[Dict[str, np.ndarray]] = None, length: float = 1.0,
+def plot_rig(path: str, frames: Mapping[str, SE3], boards: Sequence[tuple[SE3, np.ndarray]] = (),
+             points: dict[str, np.ndarray] | None = None, length: float = 1.0,
              title: str = "rig") -> None:
     """The rig in one reference frame: ``frames`` {name: ref_from_frame (SE3)} drawn as
     axes (x red, y green, z blue), ``boards`` [(ref_from_board, p_in_board (N, 3))]

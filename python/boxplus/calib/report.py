@@ -18,7 +18,6 @@ guess (``rescale=True``, what OpenCV reports).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Tuple
 
 import numpy as np
 
@@ -39,16 +38,16 @@ class Parameter:
 
 @dataclass
 class CalibrationReport:
-    rms: Dict[str, float]            # per group, unwhitened (pixels, m/s², ...)
-    count: Dict[str, int]            # error rows per group
-    parameters: List[Parameter]
-    undetermined: List[Tuple[float, List[str]]]   # (s / s_max, parameter names), rank-deficient
-    ill_conditioned: List[Tuple[float, List[str]]]  # (s / s_max, parameter names)
+    rms: dict[str, float]            # per group, unwhitened (pixels, m/s², ...)
+    count: dict[str, int]            # error rows per group
+    parameters: list[Parameter]
+    undetermined: list[tuple[float, list[str]]]   # (s / s_max, parameter names), rank-deficient
+    ill_conditioned: list[tuple[float, list[str]]]  # (s / s_max, parameter names)
     condition: float                 # s_max / s_min of the column-scaled Jacobian
     sigma_factor: float              # σ̂ (1 when the given Σ fit the residuals)
     rescaled: bool
     covariance: np.ndarray = field(repr=False)  # tangent covariance over the free variables
-    columns: List[Tuple[int, int]] = field(repr=False)  # per column: (variable id, tangent index)
+    columns: list[tuple[int, int]] = field(repr=False)  # per column: (variable id, tangent index)
 
     def std(self, variable: str) -> np.ndarray:
         return np.array([p.std for p in self.parameters if p.variable == variable])
@@ -57,7 +56,7 @@ class CalibrationReport:
         return np.array([p.value for p in self.parameters if p.variable == variable])
 
     @property
-    def warnings(self) -> List[str]:
+    def warnings(self) -> list[str]:
         out = []
         for s, names in self.undetermined:
             out.append(f"NOT DETERMINED by the data (singular value {s:.1e} of the largest): "
@@ -70,7 +69,7 @@ class CalibrationReport:
         lines = ["calibration report", "  RMS per measurement group:"]
         for g, r in self.rms.items():
             lines.append(f"    {g:24s} {r:.5f}  ({self.count[g]} errors)")
-        lines.append(f"  parameters (± 1σ{', rescaled by σ̂ = %.4f' % self.sigma_factor if self.rescaled else ''}):")
+        lines.append(f"  parameters (± 1σ{f', rescaled by σ̂ = {self.sigma_factor:.4f}' if self.rescaled else ''}):")
         for p in self.parameters:
             lines.append(f"    {p.name:32s} {p.value:+14.6f} ± {p.std:.6f}")
         lines.append(f"  condition number (scaled Jacobian): {self.condition:.3g}")
@@ -91,8 +90,8 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
     jac = o.jacobian()
     J = np.asarray(jac["jacobian"])
     r = np.asarray(jac["residuals"])
-    columns: List[Tuple[int, int]] = []
-    names: List[str] = []
+    columns: list[tuple[int, int]] = []
+    names: list[str] = []
     for vid in jac["variables"]:
         labels = o.labels(vid)
         vname = o.variable_name(vid)
@@ -103,8 +102,8 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
     norms = np.linalg.norm(J, axis=0)
     unobserved = norms == 0
     Js = J[:, ~unobserved] / norms[~unobserved]
-    undetermined: List[Tuple[float, List[str]]] = []
-    ill: List[Tuple[float, List[str]]] = []
+    undetermined: list[tuple[float, list[str]]] = []
+    ill: list[tuple[float, list[str]]] = []
     if unobserved.any():
         undetermined.append((0.0, [names[i] for i in np.flatnonzero(unobserved)]))
     cov = np.full((n, n), np.nan)
@@ -139,8 +138,8 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
     for vid in jac["variables"]:
         vals = _display_values(o, vid)
         for t, lab in enumerate(o.labels(vid)):
-            c = columns.index((vid, t))
-            params.append(Parameter(o.variable_name(vid), lab, float(vals[t]), float(np.sqrt(cov[c, c]))))
+            col = columns.index((vid, t))
+            params.append(Parameter(o.variable_name(vid), lab, float(vals[t]), float(np.sqrt(cov[col, col]))))
     errs = o.errors()
     rms = {g: float(np.sqrt(np.mean(np.sum(e**2, axis=1)))) for g, e in errs.items()}
     count = {g: len(e) for g, e in errs.items()}

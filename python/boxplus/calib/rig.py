@@ -11,17 +11,23 @@ k1 k2 p1 p2 k3; "radial2" k1 k2; "radial1" k1).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any
 
 import numpy as np
 
 from boxplus import problem as _problem
 from boxplus._core import SolveSummary
-from boxplus.manifolds import SE3, SO3, Rn
 from boxplus.calib.init import (
-    CAMERA_LABELS, camera_matrix, check_views, init_camera, intrinsics_vector, relative_pose_init,
+    CAMERA_LABELS,
+    camera_matrix,
+    check_views,
+    init_camera,
+    intrinsics_vector,
+    relative_pose_init,
 )
+from boxplus.manifolds import SE3, SO3, Rn
 
 __all__ = ["add_camera", "Calibration", "calibrate_mono", "calibrate_stereo", "detect_corners"]
 
@@ -39,11 +45,11 @@ class Calibration:
 
     problem: _problem.OptimizationProblem
     model: str
-    ids: Dict[str, int]
-    view_ids: Dict[str, List[int]] = field(default_factory=dict)
-    result: Optional[SolveSummary] = None
+    ids: dict[str, int]
+    view_ids: dict[str, list[int]] = field(default_factory=dict)
+    result: SolveSummary | None = None
 
-    def camera(self, name: str) -> Tuple[np.ndarray, np.ndarray]:
+    def camera(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """(K, OpenCV distortion) of a camera."""
         return camera_matrix(self.problem[self.ids[name]].vec, self.model)
 
@@ -73,7 +79,7 @@ def _check_orientations(cam_from_board: Sequence[SE3], camera: str) -> None:
     skew, two different orientations determine the intrinsics.
     """
     R = [p.rot.R for p in cam_from_board]
-    distinct: List[List[int]] = []  # views grouped by orientation
+    distinct: list[list[int]] = []  # views grouped by orientation
     for i, Ri in enumerate(R):
         for group in distinct:
             if np.linalg.norm(SO3(R[group[0]].T @ Ri).log()) < _SAME_ORIENTATION_RAD:
@@ -98,7 +104,7 @@ def _camera_init(image_points, object_points, image_size, camera):
 
 
 def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray,
-                   image_size: Tuple[int, int], model: str = "opencv5", sigma: Any = None,
+                   image_size: tuple[int, int], model: str = "opencv5", sigma: Any = None,
                    name: str = "camera", solve: bool = True, covariance: Any = None) -> Calibration:
     """One camera from views of a planar board (Zhang's initial values, then ML).
 
@@ -122,9 +128,9 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
 
 
 def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[np.ndarray],
-                     object_points: np.ndarray, image_size: Tuple[int, int],
+                     object_points: np.ndarray, image_size: tuple[int, int],
                      model: str = "opencv5", sigma: Any = None,
-                     fixed_intrinsics: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                     fixed_intrinsics: tuple[np.ndarray, np.ndarray] | None = None,
                      solve: bool = True, covariance: Any = None) -> Calibration:
     """A stereo pair seeing the same boards: intrinsics of both cameras, right_from_left
     and one world_from_left per view, jointly (or with ``fixed_intrinsics`` =
@@ -160,7 +166,7 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
     return cal
 
 
-def detect_corners(images: Sequence[np.ndarray], pattern_size: Tuple[int, int]) -> List[Optional[np.ndarray]]:
+def detect_corners(images: Sequence[np.ndarray], pattern_size: tuple[int, int]) -> list[np.ndarray | None]:
     """Chessboard corners per image with OpenCV (the optional extra
     opencv-python-headless): (N, 2) float arrays, None where no board was found."""
     try:
@@ -168,12 +174,14 @@ def detect_corners(images: Sequence[np.ndarray], pattern_size: Tuple[int, int]) 
     except ImportError:
         raise ImportError("corner detection needs opencv-python-headless: pip install "
                           "'opencv-python-headless<5'") from None
-    out = []
+    out: list[np.ndarray | None] = []
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
     for img in images:
-        gray = img if img.ndim == 2 else cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+        # Any: cv2's stubs take only integer/floating dtypes, an image arrives as any array.
+        gray: Any = img if img.ndim == 2 else cv2.cvtColor(img, cv2.COLOR_BGR2GRAY)
+        # flags by keyword: the third positional argument is the output array `corners`.
         ok, c = cv2.findChessboardCorners(gray, tuple(pattern_size),
-                                          cv2.CALIB_CB_ADAPTIVE_THRESH | cv2.CALIB_CB_NORMALIZE_IMAGE)
+                                          flags=cv2.CALIB_CB_ADAPTIVE_THRESH | cv2.CALIB_CB_NORMALIZE_IMAGE)
         if not ok:
             out.append(None)
             continue

@@ -7,12 +7,10 @@ pose in the board ("world") frame; ``p_in_cam = world_from_cam.tolocal(p_in_worl
 
 from __future__ import annotations
 
-from typing import List, Optional, Tuple
-
 import numpy as np
 
-from boxplus.manifolds import SE3, SO3
 from boxplus.geometry import look_at, project
+from boxplus.manifolds import SE3, SO3
 
 __all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K"]
 
@@ -29,7 +27,7 @@ def board_points(cols: int = 9, rows: int = 6, square: float = 0.04) -> np.ndarr
 
 
 def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance: float = 0.6,
-                 spread: float = 0.35, roll: float = 0.4) -> List[SE3]:
+                 spread: float = 0.35, roll: float = 0.4) -> list[SE3]:
     """n world_from_cam poses around the board, looking at ``center`` from above (z < 0)."""
     out = []
     for _ in range(n):
@@ -42,7 +40,7 @@ def random_views(n: int, rng: np.random.Generator, center: np.ndarray, distance:
 
 def observe(k: np.ndarray, world_from_cam: SE3, p_in_world: np.ndarray, sigma: float,
             rng: np.random.Generator, model: str = "opencv5",
-            image_size: Optional[Tuple[int, int]] = (640, 480)) -> Tuple[np.ndarray, np.ndarray]:
+            image_size: tuple[int, int] | None = (640, 480)) -> tuple[np.ndarray, np.ndarray]:
     """Noisy pixels of the board points a camera sees: (z (M, 2), visible mask (N,))."""
     p_in_cam = np.stack([world_from_cam.tolocal(p) for p in p_in_world])
     uv = project(k, p_in_cam, model)

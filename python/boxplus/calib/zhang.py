@@ -11,7 +11,7 @@ Frames: the target's points are ``p_in_board`` with z = 0; a pose returned as
 
 from __future__ import annotations
 
-from typing import List, Sequence, Tuple
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -63,7 +63,7 @@ def _v(H: np.ndarray, i: int, j: int) -> np.ndarray:
 
 
 def intrinsics_from_homographies(
-    Hs: Sequence[np.ndarray], image_size: Tuple[int, int] | None = None
+    Hs: Sequence[np.ndarray], image_size: tuple[int, int] | None = None
 ) -> np.ndarray:
     """K (3×3, zero skew) from board→image homographies (Zhang, Sec. 3.1).
 
@@ -122,8 +122,9 @@ def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
 
 
 def init_camera(
-    object_points: np.ndarray, image_points: Sequence[np.ndarray], image_size: Tuple[int, int]
-) -> Tuple[np.ndarray, List[SE3]]:
+    object_points: np.ndarray | Sequence[np.ndarray], image_points: Sequence[np.ndarray],
+    image_size: tuple[int, int]
+) -> tuple[np.ndarray, list[SE3]]:
     """K and one cam_from_board pose per view, from a planar target (z = 0).
 
     Parameters

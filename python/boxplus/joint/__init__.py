@@ -14,15 +14,20 @@ SE(3) = R³ × SO(3), tangent [translation, rotation]; poses map local to
 parent coordinates (``b_from_a.fromlocal(p_in_a) = p_in_b``).
 """
 
-from boxplus.joint.camera import CameraIntrinsics, project, ray
 from boxplus.joint.calibrator import JointCalibration, JointResult
+from boxplus.joint.camera import CameraIntrinsics, project, ray
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
 from boxplus.joint.crossval import CrossValidation, cross_validate, kfold
 from boxplus.joint.horn import horn
 from boxplus.joint.incremental import EXTRINSICS, calibrate_incrementally
 from boxplus.joint.restarts import RestartResult, default_perturbation, solve_with_restarts
 from boxplus.joint.systems import (
-    ActiveTriangulation, RangeFinder, RobotArm, StereoPair, ThreeDSystem, camera,
+    ActiveTriangulation,
+    RangeFinder,
+    RobotArm,
+    StereoPair,
+    ThreeDSystem,
+    camera,
 )
 
 __all__ = [

@@ -26,20 +26,24 @@ variable share it. Unshared parameters are named "<system>.<parameter>".
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from types import SimpleNamespace
-from typing import Any, Callable, Dict, Iterable, List, Mapping, Optional, Sequence
+from typing import Any, Callable
 
 import numpy as np
 
-from boxplus.manifolds import SE3, codec_of
-from boxplus.problem import OptimizationProblem
 from boxplus.joint.constraints import (
-    fit_line, fit_plane, point_line_residual, point_plane_residual,
+    fit_line,
+    fit_plane,
+    point_line_residual,
+    point_plane_residual,
 )
 from boxplus.joint.horn import horn
 from boxplus.joint.restarts import RestartResult, solve_with_restarts
 from boxplus.joint.systems import ThreeDSystem
+from boxplus.manifolds import SE3, codec_of
+from boxplus.problem import OptimizationProblem
 
 _MEMO_SIZE = 4  # the unperturbed points of a term's (at most two) systems, and their ± steps
 
@@ -93,7 +97,7 @@ class JointResult:
 
     cost: float
     termination: str
-    rms: Dict[str, float]
+    rms: dict[str, float]
     restarts: RestartResult = field(repr=False)
     problem: OptimizationProblem = field(repr=False)
 
@@ -121,19 +125,19 @@ class JointCalibration:
     >>> jc.transform("stereo", "arm")   # arm_from_stereo
     """
 
-    def __init__(self, gamma: float = 1.0, root: Optional[str] = None) -> None:
+    def __init__(self, gamma: float = 1.0, root: str | None = None) -> None:
         if not np.isfinite(gamma) or gamma <= 0:
             raise ValueError(f"gamma must be a positive number, got {gamma}")
         self.gamma = float(gamma)
         self._root = root
-        self.systems: Dict[str, ThreeDSystem] = {}
-        self._binding: Dict[str, Dict[str, str]] = {}
-        self.values: Dict[str, Any] = {}
-        self.poses: Dict[str, SE3] = {}
-        self.group_values: Dict[str, Any] = {}
-        self._distances: List[_Distances] = []
-        self._groups: List[_PointGroup] = []
-        self._links: List[_Link] = []
+        self.systems: dict[str, ThreeDSystem] = {}
+        self._binding: dict[str, dict[str, str]] = {}
+        self.values: dict[str, Any] = {}
+        self.poses: dict[str, SE3] = {}
+        self.group_values: dict[str, Any] = {}
+        self._distances: list[_Distances] = []
+        self._groups: list[_PointGroup] = []
+        self._links: list[_Link] = []
 
     # ---- declaring the systems and their data ----------------------------------------
     @property
@@ -144,7 +148,7 @@ class JointCalibration:
             raise ValueError("the calibration has no systems")
         return next(iter(self.systems))
 
-    def add_system(self, system: ThreeDSystem, share: Optional[Mapping[str, str]] = None) -> ThreeDSystem:
+    def add_system(self, system: ThreeDSystem, share: Mapping[str, str] | None = None) -> ThreeDSystem:
         """Adds a system; ``share`` maps its parameter names to shared variable names."""
         if not isinstance(system, ThreeDSystem):
             raise TypeError(f"add_system: expected a ThreeDSystem, got {type(system).__name__}")
@@ -179,7 +183,7 @@ class JointCalibration:
         return self.systems[name]
 
     def add_distances(self, system: str, U_i: Any, U_j: Any, distances: Any, sigma: float,
-                      name: Optional[str] = None) -> None:
+                      name: str | None = None) -> None:
         """Distance preservation: ‖I(α, uᵢ) − I(α, uⱼ)‖ − d̄ᵢⱼ ~ N(0, σ²) (eq. 5)."""
         name = name or f"{system}.distances{len(self._distances)}"
         s = self._system(system, f"distances '{name}'")
@@ -192,11 +196,11 @@ class JointCalibration:
             )
         self._distances.append(_Distances(system, Ui, Uj, d, _sigma(sigma, name), name))
 
-    def add_coplanar(self, system: str, U: Any, sigma: float, name: Optional[str] = None) -> None:
+    def add_coplanar(self, system: str, U: Any, sigma: float, name: str | None = None) -> None:
         """Coplanarity: the points I(α, U) lie on one (estimated) plane."""
         self._add_group("plane", 3, system, U, sigma, name)
 
-    def add_collinear(self, system: str, U: Any, sigma: float, name: Optional[str] = None) -> None:
+    def add_collinear(self, system: str, U: Any, sigma: float, name: str | None = None) -> None:
         """Collinearity: the points I(α, U) lie on one (estimated) line."""
         self._add_group("line", 3, system, U, sigma, name)
 
@@ -212,7 +216,7 @@ class JointCalibration:
         self._groups.append(_PointGroup(kind, system, U, _sigma(sigma, name), name))
 
     def add_correspondences(self, a: str, b: str, U_a: Any, U_b: Any, sigma: float,
-                            name: Optional[str] = None) -> None:
+                            name: str | None = None) -> None:
         """A link: data U_a of system a and U_b of system b seen at the same points (eq. 4)."""
         name = name or f"{a}-{b}"
         what = f"correspondences '{name}'"
@@ -225,12 +229,12 @@ class JointCalibration:
         self._links.append(_Link(a, b, Ua, Ub, _sigma(sigma, name), name))
 
     # ---- results ---------------------------------------------------------------------
-    def parameter_keys(self, system: str) -> List[str]:
+    def parameter_keys(self, system: str) -> list[str]:
         """Names of the variables holding the parameters of ``system``."""
         self._system(system, "parameter_keys")
         return list(self._binding[system].values())
 
-    def parameters(self, system: str) -> Dict[str, Any]:
+    def parameters(self, system: str) -> dict[str, Any]:
         """Current values of the parameters of ``system``, by parameter name."""
         self._system(system, "parameters")
         return {p: self.values[k] for p, k in self._binding[system].items()}
@@ -261,7 +265,7 @@ class JointCalibration:
         return np.linalg.norm(self.points_in_root(a, U_a) - self.points_in_root(b, U_b), axis=1)
 
     # ---- checks ----------------------------------------------------------------------
-    def check(self, systems: Optional[Sequence[str]] = None, extrinsics: bool = True) -> None:
+    def check(self, systems: Sequence[str] | None = None, extrinsics: bool = True) -> None:
         """Raises ValueError naming the culprit if the problem cannot be solved as declared."""
         active = self._active(systems)
         for s in active:
@@ -294,7 +298,7 @@ class JointCalibration:
                     f"the graph of systems must be connected (add correspondences)"
                 )
 
-    def _active(self, systems: Optional[Iterable[str]]) -> List[str]:
+    def _active(self, systems: Iterable[str] | None) -> list[str]:
         if not self.systems:
             raise ValueError("the calibration has no systems")
         if systems is None:
@@ -304,7 +308,7 @@ class JointCalibration:
             self._system(s, "solve")
         return out
 
-    def _active_links(self, active: Sequence[str], extrinsics: bool) -> List[_Link]:
+    def _active_links(self, active: Sequence[str], extrinsics: bool) -> list[_Link]:
         if not extrinsics:
             return []
         return [l for l in self._links if l.a in active and l.b in active]
@@ -313,9 +317,9 @@ class JointCalibration:
         return self.root if self.root in active else active[0]
 
     @staticmethod
-    def _tree(active, links, root) -> Dict[str, Optional[_Link]]:
+    def _tree(active, links, root) -> dict[str, _Link | None]:
         """Breadth-first spanning tree: system -> the link it was reached by."""
-        reached: Dict[str, Optional[_Link]] = {root: None}
+        reached: dict[str, _Link | None] = {root: None}
         queue = deque([root])
         while queue:
             s = queue.popleft()
@@ -327,7 +331,7 @@ class JointCalibration:
         return reached
 
     # ---- initialisation --------------------------------------------------------------
-    def initialise_poses(self, systems: Optional[Sequence[str]] = None, overwrite: bool = False) -> None:
+    def initialise_poses(self, systems: Sequence[str] | None = None, overwrite: bool = False) -> None:
         """Poses along a breadth-first tree from the root by Horn's method, at the current intrinsics."""
         active = self._active(systems)
         links = self._active_links(active, True)
@@ -347,7 +351,7 @@ class JointCalibration:
                 raise ValueError(f"initialising the pose of '{s}' from correspondences '{l.name}': {e}") from None
 
     # ---- the objective ---------------------------------------------------------------
-    def build(self, systems: Optional[Sequence[str]] = None, extrinsics: bool = True,
+    def build(self, systems: Sequence[str] | None = None, extrinsics: bool = True,
               fixed: Iterable[str] = ()) -> tuple:
         """The OptimizationProblem of eq. 8 over ``systems`` (default: all).
 
@@ -368,7 +372,7 @@ class JointCalibration:
         if unknown:
             raise KeyError(f"fixed: unknown parameter variables {sorted(unknown)}")
         o = OptimizationProblem()
-        ids: Dict[str, int] = {}
+        ids: dict[str, int] = {}
         for s in active:
             for key in self._binding[s].values():
                 if key not in ids:
@@ -389,7 +393,7 @@ class JointCalibration:
             self._add_link_terms(o, ids, [l for l in links if (l.a, l.b) == pair], root)
         return o, ids
 
-    def _points_fn(self, system: str) -> Callable[[Dict[str, Any], np.ndarray], np.ndarray]:
+    def _points_fn(self, system: str) -> Callable[[dict[str, Any], np.ndarray], np.ndarray]:
         sys_ = self.systems[system]
         binding = self._binding[system]
         # The solver's central differences perturb one variable at a time and pass
@@ -399,7 +403,7 @@ class JointCalibration:
         # holds, so that the ids cannot be reused while it lives).
         memo: deque = deque(maxlen=_MEMO_SIZE)
 
-        def pts(b: Dict[str, Any], U: np.ndarray) -> np.ndarray:
+        def pts(b: dict[str, Any], U: np.ndarray) -> np.ndarray:
             args = [b[k] for k in binding.values()]
             for inputs, out in memo:
                 if inputs[0] is U and all(x is y for x, y in zip(inputs[1:], args)):
@@ -423,7 +427,7 @@ class JointCalibration:
             return compute(b, extra, *args[K + per_row:])
 
         term.__name__ = name
-        term.keys = keys
+        term.keys = keys  # type: ignore[attr-defined]  # mypy has no way to declare a function's attribute
         return term
 
     @staticmethod
@@ -465,7 +469,7 @@ class JointCalibration:
                         if kind == "line":
                             self._add_rows(o, ids, term_anchor, np.zeros((1, 1)), g.sigma, (), gid[:1])
 
-    def _add_link_terms(self, o, ids, links: List[_Link], root: str) -> None:
+    def _add_link_terms(self, o, ids, links: list[_Link], root: str) -> None:
         """The links between one pair of systems, evaluated together."""
         l = links[0]
         pa, pb = self._points_fn(l.a), self._points_fn(l.b)
@@ -487,9 +491,9 @@ class JointCalibration:
             self._add_rows(o, ids, term, np.zeros((len(l.Ua), 3)), l.sigma / np.sqrt(self.gamma), (l.Ua, l.Ub))
 
     # ---- solving ---------------------------------------------------------------------
-    def solve(self, systems: Optional[Sequence[str]] = None, extrinsics: bool = True,
-              fixed: Iterable[str] = (), restarts: int = 0, seed: Optional[int] = 0,
-              perturbation: Optional[Callable[[Any], np.ndarray]] = None, **solve_kw: Any) -> JointResult:
+    def solve(self, systems: Sequence[str] | None = None, extrinsics: bool = True,
+              fixed: Iterable[str] = (), restarts: int = 0, seed: int | None = 0,
+              perturbation: Callable[[Any], np.ndarray] | None = None, **solve_kw: Any) -> JointResult:
         """Builds eq. 8 over ``systems`` (default all), solves it with random restarts, stores the estimates.
 
         Parameters
@@ -514,7 +518,7 @@ class JointCalibration:
                 self.group_values[key[6:]] = o[vid]
             else:
                 self.values[key] = o[vid]
-        rms = {k: v for k, v in o.rms().items()}
+        rms = dict(o.rms().items())
         return JointResult(rr.best_cost, rr.best.termination, rms, rr, o)
 
 
@@ -525,7 +529,7 @@ def _sigma(sigma: Any, name: str) -> float:
     return s
 
 
-def _depth(tree: Dict[str, Any], s: str) -> int:
+def _depth(tree: dict[str, Any], s: str) -> int:
     d = 0
     while tree[s] is not None:
         l = tree[s]

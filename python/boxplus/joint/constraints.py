@@ -22,6 +22,8 @@ to another system.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from boxplus.manifolds import S2, Rn, make_compound
@@ -32,7 +34,7 @@ Plane = make_compound("Plane", normal=S2([0.0, 0.0, 1.0]), distance=Rn(1))
 Line = make_compound("Line", direction=S2([1.0, 0.0, 0.0]), point=Rn(3))
 
 
-def fit_plane(points: np.ndarray) -> "Plane":
+def fit_plane(points: np.ndarray) -> Any:  # a Plane (a class made at run time)
     """Total-least-squares plane through ≥ 3 points (SVD), as a :data:`Plane`."""
     p = np.asarray(points, dtype=float)
     c = p.mean(axis=0)
@@ -40,7 +42,7 @@ def fit_plane(points: np.ndarray) -> "Plane":
     return Plane(normal=S2(n), distance=[n @ c])
 
 
-def fit_line(points: np.ndarray) -> "Line":
+def fit_line(points: np.ndarray) -> Any:  # a Line (a class made at run time)
     """Total-least-squares line through ≥ 2 points (SVD), as a :data:`Line`."""
     p = np.asarray(points, dtype=float)
     c = p.mean(axis=0)

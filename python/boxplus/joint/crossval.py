@@ -9,17 +9,18 @@ mean ± standard deviation over the folds of each fold's mean error.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
+from typing import Any, Callable
 
 import numpy as np
 
 __all__ = ["CrossValidation", "cross_validate", "kfold"]
 
-Split = Dict[str, np.ndarray]
+Split = dict[str, np.ndarray]
 
 
-def kfold(sizes: Mapping[str, int], k: int, seed: Optional[int] = 0) -> List[Tuple[Split, Split]]:
+def kfold(sizes: Mapping[str, int], k: int, seed: int | None = 0) -> list[tuple[Split, Split]]:
     """k (train, validation) splits; each maps a kind to item indices.
 
     Items of each kind are shuffled with ``seed`` and dealt into k folds.
@@ -45,7 +46,7 @@ class CrossValidation:
     """Per method, the mean validation error of every fold (in the error's units ×
     ``scale``, by default metres → millimetres)."""
 
-    fold_errors: Dict[str, List[float]] = field(default_factory=dict)
+    fold_errors: dict[str, list[float]] = field(default_factory=dict)
     unit: str = "mm"
 
     def mean(self, method: str) -> float:
@@ -71,7 +72,7 @@ def cross_validate(
     validate: Callable[[Any, Split], np.ndarray],
     sizes: Mapping[str, int],
     k: int = 5,
-    seed: Optional[int] = 0,
+    seed: int | None = 0,
     scale: float = 1000.0,
     unit: str = "mm",
 ) -> CrossValidation:

@@ -13,8 +13,6 @@ Frames: the result is ``b_from_a``, an SE3 with ``b_from_a.fromlocal(a) ≈ b``
 
 from __future__ import annotations
 
-from typing import Optional
-
 import numpy as np
 
 from boxplus.geometry import absolute_orientation
@@ -23,7 +21,7 @@ from boxplus.manifolds import SE3
 __all__ = ["horn"]
 
 
-def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: Optional[np.ndarray] = None) -> SE3:
+def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: np.ndarray | None = None) -> SE3:
     """The rigid transform b_from_a minimising Σ wᵢ ‖R aᵢ + t − bᵢ‖².
 
     Parameters
@@ -44,4 +42,6 @@ def horn(p_in_a: np.ndarray, p_in_b: np.ndarray, weights: Optional[np.ndarray] =
         On bad shapes, fewer than 3 points, or points on one line (the rotation
         about that line is then undetermined).
     """
-    return absolute_orientation(p_in_a, p_in_b, weights, what="horn")
+    b_from_a = absolute_orientation(p_in_a, p_in_b, weights, what="horn")
+    assert isinstance(b_from_a, SE3)  # without scale= it is a pose, not (pose, scale)
+    return b_from_a

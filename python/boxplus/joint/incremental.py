@@ -11,7 +11,8 @@ by the laser–camera system).
 
 from __future__ import annotations
 
-from typing import Any, List, Sequence, Union
+from collections.abc import Sequence
+from typing import Any
 
 from boxplus.joint.calibrator import JointCalibration, JointResult
 
@@ -22,11 +23,11 @@ EXTRINSICS = "extrinsics"
 
 def calibrate_incrementally(
     jc: JointCalibration,
-    steps: Sequence[Union[str, Sequence[str]]],
+    steps: Sequence[str | Sequence[str]],
     restarts: int = 0,
     seed: int = 0,
     **solve_kw: Any,
-) -> List[JointResult]:
+) -> list[JointResult]:
     """Runs ``steps`` in order, each fixing what the earlier ones estimated.
 
     Parameters

@@ -10,12 +10,12 @@ gives the same restarts.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, List, Optional
+from typing import Any, Callable
 
 import numpy as np
 
-from boxplus.manifolds import SE3, SO3, S2, Rn, _CompoundBase
 from boxplus._core import SolveSummary
+from boxplus.manifolds import S2, SE3, SO3, Rn, _CompoundBase
 from boxplus.problem import EvaluationError, OptimizationProblem
 
 __all__ = ["RestartResult", "default_perturbation", "solve_with_restarts"]
@@ -55,7 +55,7 @@ class RestartResult:
 
     best: SolveSummary
     best_cost: float
-    costs: List[float] = field(default_factory=list)
+    costs: list[float] = field(default_factory=list)
 
     @property
     def single_solve_cost(self) -> float:
@@ -74,8 +74,8 @@ class RestartResult:
 def solve_with_restarts(
     problem: OptimizationProblem,
     restarts: int,
-    seed: Optional[int] = 0,
-    perturbation: Optional[Callable[[Any], np.ndarray]] = None,
+    seed: int | None = 0,
+    perturbation: Callable[[Any], np.ndarray] | None = None,
     **solve_kw: Any,
 ) -> RestartResult:
     """Solves, then ``restarts`` times perturbs the best estimate and solves again.
@@ -119,6 +119,7 @@ def solve_with_restarts(
             r, cost = None, np.inf
         costs.append(cost)
         if np.isfinite(cost) and cost < best_cost:
+            assert r is not None  # a solve that raised has cost inf
             best_cost, best, best_X = cost, r, problem.X
     for v in free:
         problem.set_value(v, best_X[v])

@@ -20,15 +20,16 @@ Poses follow the library's convention: SE(3) = R³ × SO(3), tangent order
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from types import SimpleNamespace
-from typing import Any, Dict, Mapping, Optional
+from typing import Any
 
 import numpy as np
 
 from boxplus import batch
 from boxplus.geometry import triangulate_midpoint
-from boxplus.manifolds import Rn, codec_of
 from boxplus.joint.camera import CameraIntrinsics, ray
+from boxplus.manifolds import Rn, codec_of
 
 __all__ = ["ActiveTriangulation", "RangeFinder", "RobotArm", "StereoPair", "ThreeDSystem", "camera"]
 
@@ -68,7 +69,7 @@ class ThreeDSystem:
             )
         for p in self.parameter_names:
             codec_of(parameters[p])  # raises TypeError for non-manifold values
-        self.parameters: Dict[str, Any] = {p: parameters[p] for p in self.parameter_names}
+        self.parameters: dict[str, Any] = {p: parameters[p] for p in self.parameter_names}
 
     def points(self, alpha: Any, U: np.ndarray) -> np.ndarray:
         """I(α, U): the points (N, 3) in the system's frame; ``alpha`` holds batches."""
@@ -88,7 +89,7 @@ class ThreeDSystem:
             raise ValueError(f"{what}: data of system '{self.name}' have non-finite entries")
         return U
 
-    def evaluate(self, U: Any, values: Optional[Mapping[str, Any]] = None) -> np.ndarray:
+    def evaluate(self, U: Any, values: Mapping[str, Any] | None = None) -> np.ndarray:
         """I(α, U) at concrete parameter values (default: the initial ones)."""
         U = self.check_data(U, f"{self.name}.evaluate")
         values = {**self.parameters, **(values or {})}

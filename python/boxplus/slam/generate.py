@@ -63,10 +63,11 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from os import PathLike
 from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple, Union
+from typing import Union
 
 import numpy as np
 
@@ -88,7 +89,7 @@ PathType = Union[str, "PathLike[str]"]
 #: Named noise levels ``(σ_t [m], σ_θ [rad])`` per edge, isotropic in each block.
 #: 'bignoise' is the regime of GTSAM's ``sphere_bignoise`` examples, where the
 #: composed odometry is far from the truth and local solvers need a good start.
-NOISE_LEVELS: Dict[str, Tuple[float, float]] = {
+NOISE_LEVELS: dict[str, tuple[float, float]] = {
     "tiny": (1e-3, 1e-4),
     "low": (0.01, 0.002),
     "medium": (0.05, 0.01),
@@ -242,7 +243,7 @@ class GeneratedGraph:
     kind: np.ndarray
     covariance: np.ndarray
     information: np.ndarray
-    options: Dict[str, float] = field(default_factory=dict)
+    options: dict[str, float] = field(default_factory=dict)
 
     @property
     def num_poses(self) -> int:
@@ -266,7 +267,7 @@ class GeneratedGraph:
     def num_outliers(self) -> int:
         return int(np.count_nonzero(self.kind == OUTLIER))
 
-    def write(self, path: PathType, poses: Optional[np.ndarray] = None) -> None:
+    def write(self, path: PathType, poses: np.ndarray | None = None) -> None:
         """Writes the g2o file with ``poses`` (default: :attr:`estimate`) as vertices."""
         self._write(path, self.estimate if poses is None else poses)
 
@@ -455,7 +456,7 @@ def _spec_name(family, dim, n, noise, p, f) -> str:
     return name + (f"-out{f:g}" if f else "")
 
 
-def benchmark_suite(seed: int = 0, include_million: bool = False) -> List[GraphSpec]:
+def benchmark_suite(seed: int = 0, include_million: bool = False) -> list[GraphSpec]:
     """Named graph specifications for benchmarks, deterministic from ``seed``.
 
     The design is fixed; ``seed`` draws each graph's own seed. 60 graphs:
@@ -516,7 +517,7 @@ def _truth_path(out: Path) -> Path:
     return out.with_name(out.stem + "_truth" + (out.suffix or ".g2o"))
 
 
-def _write_graph(graph: GeneratedGraph, out: Path, truth: Optional[Path]) -> str:
+def _write_graph(graph: GeneratedGraph, out: Path, truth: Path | None) -> str:
     graph.write(out)
     if truth is not None:
         graph.write_truth(truth)
@@ -525,7 +526,7 @@ def _write_graph(graph: GeneratedGraph, out: Path, truth: Optional[Path]) -> str
             f"{graph.num_outliers} outliers)")
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """``python -m boxplus.slam.generate``: writes a generated graph (and its truth)."""
     ap = argparse.ArgumentParser(
         prog="python -m boxplus.slam.generate",

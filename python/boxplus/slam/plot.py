@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from os import PathLike
-from typing import TYPE_CHECKING, Optional, Union
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
@@ -16,9 +16,9 @@ PathType = Union[str, "PathLike[str]"]
 
 
 def plot_trajectory(
-    graph: "PoseGraph",
+    graph: PoseGraph,
     path: PathType,
-    before: Optional[np.ndarray] = None,
+    before: np.ndarray | None = None,
     title: str = "",
 ) -> None:
     """Writes a PNG of the pose positions (x–y plane), optionally over ``before``.

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from os import PathLike
-from typing import Any, Callable, Optional, Union
+from typing import Any, Callable, SupportsIndex, SupportsInt, Union
 
 import numpy as np
 
@@ -43,7 +43,7 @@ class PoseGraph(_core.PoseGraph):
     """
 
     @classmethod
-    def load(cls, path: PathType, **options) -> "PoseGraph":
+    def load(cls, path: PathType, **options) -> PoseGraph:
         """Reads, initialises and builds a graph (:func:`load_g2o`'s keywords)."""
         return cls(str(path), **options)
 
@@ -53,11 +53,13 @@ class PoseGraph(_core.PoseGraph):
         return self.problem.value(self.variable(vertex_id))
 
     # -- extending ----------------------------------------------------------
-    def add_vertex(self, vertex_id: int, kind: str, estimate) -> int:
+    # The ids take what the binding's int conversion takes (the base class's signature).
+    def add_vertex(self, vertex_id: SupportsInt | SupportsIndex, kind: str, estimate) -> int:
         """Adds a vertex ``kind`` in {'SE2', 'SE3', 'XY', 'XYZ'}; returns its variable id."""
         return super().add_vertex(vertex_id, kind, np.asarray(estimate, float))
 
-    def add_edge(self, kind: str, from_id: int, to_id: int, measurement, information) -> int:
+    def add_edge(self, kind: str, from_id: SupportsInt | SupportsIndex, to_id: SupportsInt | SupportsIndex,
+                 measurement, information) -> int:
         """Adds an edge (saved with the graph); returns its measurement id.
 
         Parameters
@@ -91,8 +93,8 @@ class PoseGraph(_core.PoseGraph):
     # -- solving and results ------------------------------------------------
     def solve(
         self,
-        options: Optional[_core.SolverOptions] = None,
-        callback: Optional[Callable[[_core.IterationInfo], Any]] = None,
+        options: _core.SolverOptions | None = None,
+        callback: Callable[[_core.IterationInfo], Any] | None = None,
         verbose: bool = False,
         **overrides: Any,
     ) -> _core.SolveSummary:
@@ -114,7 +116,7 @@ class PoseGraph(_core.PoseGraph):
             overrides["method"] = _default_method(self.dimension)
         return solver.run(self.problem, options, callback, verbose, **overrides)
 
-    def chi2(self, convention: Optional[str] = None) -> float:
+    def chi2(self, convention: str | None = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
         return super().chi2(convention or "")
 
@@ -126,7 +128,7 @@ class PoseGraph(_core.PoseGraph):
         """Writes the graph with the current estimates; ids, order and tags kept."""
         self.save(str(path))
 
-    def plot(self, path: PathType, before: Optional[np.ndarray] = None, title: str = "") -> None:
+    def plot(self, path: PathType, before: np.ndarray | None = None, title: str = "") -> None:
         """PNG of the trajectory (see :func:`boxplus.slam.plot_trajectory`)."""
         from .plot import plot_trajectory
 

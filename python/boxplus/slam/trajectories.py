@@ -43,7 +43,7 @@ from __future__ import annotations
 import bisect
 import inspect
 from dataclasses import dataclass
-from typing import Callable, Dict
+from typing import Callable
 
 import numpy as np
 
@@ -146,10 +146,8 @@ def _turn_group(dim: int):
         row = []
         for t in turns:
             r = group[i] @ t
-            for g, m in enumerate(group):
-                if np.array_equal(m, r):
-                    break
-            else:
+            g = next((j for j, m in enumerate(group) if np.array_equal(m, r)), None)
+            if g is None:
                 group.append(r)
                 g = len(group) - 1
             row.append(g)
@@ -198,18 +196,18 @@ def _manhattan(dim: int, n: int, rng: np.random.Generator, step: float, block: i
         starts.append(tuple(pos))
         rots.append(rot)
         pos[axis_of[rot]] += heading[rot][axis_of[rot]]
-    starts, rots = np.array(starts, np.int64), np.array(rots, np.int64)
+    start_of, rot_of = np.array(starts, np.int64), np.array(rots, np.int64)
     k = np.arange(segments * block)[:n]
     seg, off = k // block, k % block
-    dirs = np.array(heading)[rots[seg]]
-    lattice = starts[seg] * block + off[:, None] * dirs
+    dirs = np.array(heading)[rot_of[seg]]
+    lattice = start_of[seg] * block + off[:, None] * dirs
     positions = lattice * step
     if dim == 2:
         yaw = np.arctan2(dirs[:, 1], dirs[:, 0])
         poses = np.column_stack([positions, yaw])
     else:
         quats = se.quat_from_matrix(np.array(group, float))
-        poses = np.column_stack([positions, quats[rots[seg]]])
+        poses = np.column_stack([positions, quats[rot_of[seg]]])
     return Trajectory(poses, revisits(positions, radius * step, min_gap, rng))
 
 
@@ -344,7 +342,7 @@ def _random_walk(dim: int, n: int, rng: np.random.Generator, step: float, turn: 
 
 
 #: Family name → function ``(dim, n, rng, step, **options) -> Trajectory``.
-FAMILIES: Dict[str, Callable[..., Trajectory]] = {
+FAMILIES: dict[str, Callable[..., Trajectory]] = {
     "manhattan": _manhattan,
     "grid": _grid,
     "sphere": _sphere,

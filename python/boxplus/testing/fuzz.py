@@ -110,7 +110,8 @@ def _cut(text: str, max_vertices: int) -> str:
     """The first vertices of a file and the edges among them (edges only, when
     the file has no vertices: the first few)."""
     lines = text.splitlines(keepends=True)
-    keep, ids = [], set()
+    keep: list[str] = []
+    ids: set[int] = set()
     for ln in lines:
         t = ln.split()
         if t and t[0].startswith("VERTEX") and len(ids) < max_vertices:
@@ -470,6 +471,7 @@ def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | N
                 cmd += ["--cli", cli]
             last = start - 1
             with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
+                assert p.stdout is not None  # stdout=PIPE
                 for line in p.stdout:
                     i, outcome, detail = json.loads(line)
                     last = i

@@ -37,7 +37,8 @@ def read_g2o_arrays(path):
         where the file has no vertex), ``edge_index`` (M × 2 indices into
         ``ids``), ``z`` (M × 3 or M × 7), ``info`` (M × d × d).
     """
-    verts, edges = {}, []
+    verts: dict[int, np.ndarray] = {}
+    edges: list[tuple[int, int, list[float]]] = []
     order = []
     dim = 0
     with open(path) as f:
@@ -47,7 +48,7 @@ def read_g2o_arrays(path):
                 continue
             if t[0] == "VERTEX_SE2":
                 dim = 2
-                verts[int(t[1])] = [float(v) for v in t[2:5]]
+                verts[int(t[1])] = np.array([float(v) for v in t[2:5]])
                 order.append(int(t[1]))
             elif t[0] == "VERTEX_SE3:QUAT":
                 dim = 3
