@@ -21,6 +21,8 @@ Only the pose-graph tags of the benchmark files are read here
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["read_g2o_arrays", "chi2_g2o", "chi2_log", "chi2_sesync", "edge_errors"]
@@ -48,7 +50,9 @@ def read_g2o_arrays(path):
                 continue
             if t[0] == "VERTEX_SE2":
                 dim = 2
-                verts[int(t[1])] = np.array([float(v) for v in t[2:5]])
+                v = np.array([float(x) for x in t[2:5]])
+                v[2] = _angle(v[2])
+                verts[int(t[1])] = v
                 order.append(int(t[1]))
             elif t[0] == "VERTEX_SE3:QUAT":
                 dim = 3
@@ -58,7 +62,9 @@ def read_g2o_arrays(path):
                 order.append(int(t[1]))
             elif t[0] == "EDGE_SE2":
                 dim = 2
-                edges.append((int(t[1]), int(t[2]), [float(x) for x in t[3:12]]))
+                z = [float(x) for x in t[3:12]]
+                z[2] = _angle(z[2])
+                edges.append((int(t[1]), int(t[2]), z))
             elif t[0] == "EDGE_SE3:QUAT":
                 dim = 3
                 edges.append((int(t[1]), int(t[2]), [float(x) for x in t[3:33]]))
@@ -84,6 +90,13 @@ def read_g2o_arrays(path):
     edge_index = np.array([[index[a], index[b]] for a, b, _ in edges], dtype=int).reshape(-1, 2)
     return {"dim": dim, "ids": order, "poses": poses, "edge_index": edge_index, "z": z,
             "info": info}
+
+
+def _angle(a: float) -> float:
+    """An angle as the number in the file means it, mod 2π (IEEE remainder,
+    exact even for |a| ≈ 1e16 where θj − θi − θz would lose every digit)."""
+    r = math.remainder(a, 2 * math.pi)
+    return r - 2 * math.pi if r >= math.pi else r
 
 
 def _unit(q):
