@@ -17,11 +17,11 @@
 #include "boxplus/factors/imu/gravity.h"
 #include "boxplus/factors/kinematics/dh.h"
 #include "boxplus/factors/kinematics/marker.h"
-#include "boxplus/factors/point.h"
-#include "boxplus/factors/relative_pose.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose3d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/point.h"
+#include "boxplus/factors/pose/relative_pose.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {

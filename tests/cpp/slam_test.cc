@@ -8,11 +8,11 @@
 
 #include <Eigen/Geometry>
 
-#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose/bearing_range.h"
 #include "boxplus/loss.h"
-#include "boxplus/factors/pose_point.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/factors/pose/pose_point.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/slam/initialization.h"
 #include "boxplus/slam/pose_graph.h"

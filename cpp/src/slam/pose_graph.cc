@@ -5,10 +5,10 @@
 #include <cmath>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/bearing_range.h"
-#include "boxplus/factors/pose_point.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/bearing_range.h"
+#include "boxplus/factors/pose/pose_point.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 #include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds.h"
 

@@ -1,6 +1,6 @@
 // Bindings of the pose-domain factors on boxplus._core.Problem: relative poses
-// (compound ⊟ of R³ × SO(3), factors/relative_pose.h) and a 3-D point seen in
-// a frame (factors/point.h). Frames as b_from_a (MTKM's a2b); tangent order
+// (compound ⊟ of R³ × SO(3), factors/pose/relative_pose.h) and a 3-D point seen in
+// a frame (factors/pose/point.h). Frames as b_from_a (MTKM's a2b); tangent order
 // [δp, δθ]. The noise is a boxplus.NoiseModel, registered with the measurement
 // so that errors are un-whitened in C++.
 #include <pybind11/eigen.h>
@@ -8,8 +8,8 @@
 
 #include "../bindings.h"
 #include "../manifold_handle.h"
-#include "boxplus/factors/point.h"
-#include "boxplus/factors/relative_pose.h"
+#include "boxplus/factors/pose/point.h"
+#include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/noise.h"
 #include "boxplus/problem.h"
 
@@ -44,7 +44,7 @@ void RegisterPoseFactors(py::module_& m) {
       py::arg("world_from_a"), py::arg("world_from_b"), py::arg("a_from_b"), py::arg("noise"),
       py::arg("name") = "", py::arg("loss") = nullptr,
       "r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; "
-      "see factors/relative_pose.h.");
+      "see factors/pose/relative_pose.h.");
   problem.def(
       "add_point",
       [](Problem& p, int world_from_rig, int cam_from_rig, int p_in_world_id,
@@ -63,7 +63,7 @@ void RegisterPoseFactors(py::module_& m) {
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("p_in_world_id"), py::arg("z"),
       py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); "
-      "p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/point.h.");
+      "p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/point.h.");
 }
 
 }  // namespace boxplus::python

@@ -1,4 +1,4 @@
-#include "boxplus/factors/relative_pose.h"
+#include "boxplus/factors/pose/relative_pose.h"
 
 #include "boxplus/errors.h"
 

@@ -34,7 +34,7 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/errors.h"
 #include "boxplus/manifolds/rotation_math.h"
 

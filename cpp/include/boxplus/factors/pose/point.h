@@ -15,7 +15,7 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pinhole.h"
+#include "boxplus/factors/camera/models.h"
 
 namespace boxplus {
 

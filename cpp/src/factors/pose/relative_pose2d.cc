@@ -1,5 +1,5 @@
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>

@@ -1,4 +1,4 @@
-#include "boxplus/factors/point.h"
+#include "boxplus/factors/pose/point.h"
 
 #include "boxplus/errors.h"
 

@@ -1,4 +1,4 @@
-#include "boxplus/factors/pose_point.h"
+#include "boxplus/factors/pose/pose_point.h"
 
 #include <ceres/autodiff_cost_function.h>
 

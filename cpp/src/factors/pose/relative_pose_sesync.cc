@@ -1,4 +1,4 @@
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 

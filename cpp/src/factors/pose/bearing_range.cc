@@ -1,4 +1,4 @@
-#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose/bearing_range.h"
 
 #include <ceres/autodiff_cost_function.h>
 
