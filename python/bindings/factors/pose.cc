@@ -38,7 +38,7 @@ void RegisterPoseFactors(py::module_& m) {
       [](Problem& p, int world_from_a, int world_from_b, const Pose& a_from_b,
          const NoiseModel& noise, const std::string& name, const LossHandle* loss) {
         CheckDim(noise, 6, name.empty() ? "add_relative_pose" : name);
-        return p.AddMeasurement(MakeRelativePoseFactor(a_from_b, noise.sqrt_information()),
+        return p.AddMeasurement(MakeRelativePoseFactor(a_from_b, noise),
                                 {world_from_a, world_from_b}, noise, Loss(loss), name);
       },
       py::arg("world_from_a"), py::arg("world_from_b"), py::arg("a_from_b"), py::arg("noise"),
@@ -51,13 +51,12 @@ void RegisterPoseFactors(py::module_& m) {
          const Eigen::Vector3d& z, const NoiseModel& noise, const Eigen::Vector3d& p_in_world,
          const std::string& name, const LossHandle* loss) {
         CheckDim(noise, 3, name.empty() ? "add_point" : name);
-        const Eigen::Matrix3d W = noise.sqrt_information();
         if (p_in_world_id >= 0) {
-          return p.AddMeasurement(MakeLandmarkPointFactor(z, W),
+          return p.AddMeasurement(MakeLandmarkPointFactor(z, noise),
                                   {world_from_rig, cam_from_rig, p_in_world_id}, noise,
                                   Loss(loss), name);
         }
-        return p.AddMeasurement(MakePointFactor(z, W, p_in_world), {world_from_rig, cam_from_rig},
+        return p.AddMeasurement(MakePointFactor(z, noise, p_in_world), {world_from_rig, cam_from_rig},
                                 noise, Loss(loss), name);
       },
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("p_in_world_id"), py::arg("z"),

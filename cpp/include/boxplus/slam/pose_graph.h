@@ -35,8 +35,8 @@
 
 namespace boxplus::slam {
 
-// Cost function of one edge.
-std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
+// Cost function of one edge, whitened by `noise` (the edge's information).
+std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge, const NoiseModel& noise,
                                                   PoseErrorConvention convention);
 
 // eᵀΩe of one edge at the given vertex values (ambient layouts as above); for
