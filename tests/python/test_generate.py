@@ -13,7 +13,7 @@ from boxplus.slam.generate import (
     generate,
     main,
 )
-from boxplus.slam.reference import edge_errors, read_g2o_arrays
+from boxplus.testing.g2o_reference import edge_errors, read_g2o_arrays
 from boxplus.slam.trajectories import FAMILIES
 
 CASES = [(family, dim) for family in FAMILIES for dim in (2, 3)]
