@@ -5,7 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.h"
-#include "boxplus/factors/make_prior.h"
+#include "boxplus/factors/pose/make_prior.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 #include "pending_error.h"

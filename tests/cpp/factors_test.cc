@@ -17,11 +17,11 @@
 #include "boxplus/factors/imu/gravity.h"
 #include "boxplus/factors/kinematics/dh.h"
 #include "boxplus/factors/kinematics/marker.h"
-#include "boxplus/factors/point.h"
-#include "boxplus/factors/relative_pose.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose3d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/point.h"
+#include "boxplus/factors/pose/relative_pose.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {
@@ -206,9 +206,10 @@ TEST(RelativePoseFactor, JacobiansAndZeroAtTruth) {
   const Pose a = RandomPose(rng), b = RandomPose(rng);
   SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
   const SE3 b2a = A.inverse() * B;
-  auto f = MakeRelativePoseFactor(b2a.ambient(), W);
+  auto f = MakeRelativePoseFactor(b2a.ambient(), NoiseModel::SqrtInformation(W));
   EXPECT_LT(Eval(*f, {{a, true}, {b, true}}).norm(), 1e-12);
-  ExpectJacobiansMatch(*MakeRelativePoseFactor(RandomPose(rng), W), {{a, true}, {b, true}});
+  ExpectJacobiansMatch(*MakeRelativePoseFactor(RandomPose(rng), NoiseModel::SqrtInformation(W)),
+                       {{a, true}, {b, true}});
 }
 
 // SE-Sync's chordal factor: Jacobians, zero at the truth, and ‖r‖² against
@@ -220,16 +221,17 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue3D) {
   info.bottomRightCorner<3, 3>() << 9, 0, 1, 0, 8, 0, 1, 0, 7;
   const double tau = 3.0 / info.topLeftCorner<3, 3>().inverse().trace();
   const double kappa = 3.0 / (2.0 * info.bottomRightCorner<3, 3>().inverse().trace());
-  const SESyncPrecisions p = SESyncPrecisionsOf(info);
+  const NoiseModel noise = NoiseModel::Information(info);
+  const SESyncPrecisions p = SESyncPrecisionsOf(noise);
   EXPECT_NEAR(p.tau, tau, 1e-12);
   EXPECT_NEAR(p.kappa, kappa, 1e-12);
   const Pose a = RandomPose(rng, 2.0), b = RandomPose(rng, 2.0), z = RandomPose(rng, 2.0);
   const SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
   const SE3 Z = SE3::FromAmbient(z.data());
-  auto truth = MakeRelativePose3DSESync((A.inverse() * B).ambient(), info);
+  auto truth = MakeRelativePose3DSESync((A.inverse() * B).ambient(), noise);
   EXPECT_EQ(truth->num_residuals(), 12);
   EXPECT_LT(Eval(*truth, {{a, true}, {b, true}}).norm(), 1e-12);
-  auto f = MakeRelativePose3DSESync(z, info);
+  auto f = MakeRelativePose3DSESync(z, noise);
   ExpectJacobiansMatch(*f, {{a, true}, {b, true}});
   const Eigen::Matrix3d Ri = A.rotation().matrix(), Rj = B.rotation().matrix();
   const Eigen::Matrix3d Rz = Z.rotation().matrix();
@@ -237,7 +239,7 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue3D) {
   const double expected = kappa * (Rj - Ri * Rz).squaredNorm() + tau * t.squaredNorm();
   EXPECT_NEAR(Eval(*f, {{a, true}, {b, true}}).squaredNorm(), expected, 1e-10 * expected);
   // The convention's name selects this factor.
-  EXPECT_EQ(MakeRelativePose3D(z, info, ParsePoseErrorConvention("chordal"))->num_residuals(), 12);
+  EXPECT_EQ(MakeRelativePose3D(z, noise, ParsePoseErrorConvention("chordal"))->num_residuals(), 12);
 }
 
 TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
@@ -245,6 +247,7 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
   std::normal_distribution<double> g;
   Eigen::Matrix3d info;
   info << 50, 20, 3, 20, 30, 1, 3, 1, 200;
+  const NoiseModel noise = NoiseModel::Information(info);
   const double tau = 2.0 / info.topLeftCorner<2, 2>().inverse().trace(), kappa = info(2, 2);
   const auto rot = [](double th) { return Eigen::Rotation2Dd(th).toRotationMatrix(); };
   for (int trial = 0; trial < 5; ++trial) {
@@ -252,7 +255,7 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
     a << 3 * g(rng), 3 * g(rng), 3 * g(rng);
     b << 3 * g(rng), 3 * g(rng), 3 * g(rng);
     Eigen::Vector3d z(g(rng), g(rng), 3 * g(rng));
-    auto f = MakeRelativePose2DSESync(z, info);
+    auto f = MakeRelativePose2DSESync(z, noise);
     EXPECT_EQ(f->num_residuals(), 6);
     ExpectJacobiansMatch(*f, {{a, false}, {b, false}});
     const Eigen::Vector2d t = b.head<2>() - a.head<2>() - rot(a[2]) * z.head<2>();
@@ -263,21 +266,22 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
     Eigen::Vector3d zt;
     zt.head<2>() = rot(a[2]).transpose() * (b.head<2>() - a.head<2>());
     zt[2] = b[2] - a[2];
-    EXPECT_LT(Eval(*MakeRelativePose2DSESync(zt, info), {{a, false}, {b, false}}).norm(), 1e-12);
+    EXPECT_LT(Eval(*MakeRelativePose2DSESync(zt, noise), {{a, false}, {b, false}}).norm(), 1e-12);
   }
-  EXPECT_EQ(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), info, PoseErrorConvention::kSESync)
+  EXPECT_EQ(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), noise, PoseErrorConvention::kSESync)
                 ->num_residuals(),
             6);
-  EXPECT_THROW(MakeRelativePose2DSESync(Eigen::Vector3d(1, 0, 0), -info), Error);
+  EXPECT_THROW(MakeRelativePose2DSESync(Eigen::Vector3d(1, 0, 0), NoiseModel::Information(-info)),
+               Error);
   EXPECT_STREQ(ToString(ParsePoseErrorConvention("sesync")), "sesync");
 }
 
 TEST(PointFactor, Jacobians) {
   std::mt19937 rng(6);
   const Eigen::Matrix3d W = Eigen::Vector3d(1, 2, 3).asDiagonal();
-  ExpectJacobiansMatch(*MakePointFactor({0.1, 0.2, 1.0}, W, {0.3, -0.2, 2.0}),
+  ExpectJacobiansMatch(*MakePointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W), {0.3, -0.2, 2.0}),
                        {{RandomPose(rng), true}, {RandomPose(rng), true}});
-  ExpectJacobiansMatch(*MakeLandmarkPointFactor({0.1, 0.2, 1.0}, W),
+  ExpectJacobiansMatch(*MakeLandmarkPointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W)),
                        {{RandomPose(rng), true},
                         {RandomPose(rng), true},
                         {Eigen::Vector3d(0.3, -0.2, 2.0), false}});

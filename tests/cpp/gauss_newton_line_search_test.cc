@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "boxplus/boxplus.h"
-#include "boxplus/factors/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
 #include "boxplus/slam/initialization.h"
 #include "boxplus/slam/pose_graph.h"
 
@@ -128,7 +128,7 @@ TEST(GaussNewtonLineSearch, SingularNormalEquationsAreRegularised) {
   const int xa = p.AddVariable(MakeManifold("SE2"), a.data(), "a");
   const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
   const Eigen::Vector3d z(1.0, 0.5, 0.2);
-  p.AddMeasurement(MakeRelativePose2D(z, Eigen::Matrix3d::Identity(), PoseErrorConvention::kG2o),
+  p.AddMeasurement(MakeRelativePose2D(z, NoiseModel::Unit(3), PoseErrorConvention::kG2o),
                    {xa, xb});
   const SolveSummary s = p.Solve(LineSearch());
   ASSERT_TRUE(s.usable) << s.report;
@@ -142,7 +142,7 @@ TEST(GaussNewtonLineSearch, FixedAndUnusedVariablesDoNotMove) {
   const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
   const int xc = p.AddVariable(MakeManifold("SE2"), c.data(), "unused");
   p.SetFixed(xa);
-  p.AddMeasurement(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), Eigen::Matrix3d::Identity(),
+  p.AddMeasurement(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), NoiseModel::Unit(3),
                                       PoseErrorConvention::kG2o),
                    {xa, xb});
   const SolveSummary s = p.Solve(LineSearch());

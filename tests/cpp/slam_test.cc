@@ -8,11 +8,11 @@
 
 #include <Eigen/Geometry>
 
-#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose/bearing_range.h"
 #include "boxplus/loss.h"
-#include "boxplus/factors/pose_point.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/factors/pose/pose_point.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/slam/initialization.h"
 #include "boxplus/slam/pose_graph.h"
@@ -70,8 +70,9 @@ void ExpectAnalyticMatchesAutodiff3D(const Eigen::Matrix<double, 7, 1>& xi,
                                      const Eigen::Matrix<double, 6, 6>& info,
                                      PoseErrorConvention convention, int trial) {
   static const auto se3 = MakeManifold("SE3");
-  auto analytic = MakeRelativePose3D(z, info, convention);
-  auto autodiff = MakeRelativePose3DAutoDiff(z, info, convention);
+  const NoiseModel noise = NoiseModel::Information(info);
+  auto analytic = MakeRelativePose3D(z, noise, convention);
+  auto autodiff = MakeRelativePose3DAutoDiff(z, noise, convention);
   Eigen::VectorXd ra, rb;
   std::vector<RowMat> Ja, Jb;
   Evaluate(*analytic, {xi.data(), xj.data()}, {se3.get(), se3.get()}, &ra, &Ja);
@@ -131,9 +132,9 @@ TEST(RelativePose2D, AnalyticJacobiansMatchAutodiff) {
     const Eigen::Matrix3d info = RandomInfo(rng, 3).topLeftCorner<3, 3>();
     Eigen::VectorXd ra, rb;
     std::vector<RowMat> Ja, Jb;
-    Evaluate(*MakeRelativePose2D(z, info), {xi.data(), xj.data()}, {se2.get(), se2.get()}, &ra,
+    Evaluate(*MakeRelativePose2D(z, NoiseModel::Information(info)), {xi.data(), xj.data()}, {se2.get(), se2.get()}, &ra,
              &Ja);
-    Evaluate(*MakeRelativePose2DAutoDiff(z, info), {xi.data(), xj.data()},
+    Evaluate(*MakeRelativePose2DAutoDiff(z, NoiseModel::Information(info)), {xi.data(), xj.data()},
              {se2.get(), se2.get()}, &rb, &Jb);
     EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm()));
     for (int k = 0; k < 2; ++k) EXPECT_LT((Ja[k] - Jb[k]).norm(), 1e-9 * (1 + Jb[k].norm()));

@@ -2,8 +2,8 @@
 #pragma once
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/make_prior.h"
-#include "boxplus/factors/prior.h"
+#include "boxplus/factors/pose/make_prior.h"
+#include "boxplus/factors/pose/prior.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/loss.h"
 #include "boxplus/noise.h"

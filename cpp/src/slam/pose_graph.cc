@@ -5,30 +5,29 @@
 #include <cmath>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/bearing_range.h"
-#include "boxplus/factors/pose_point.h"
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/bearing_range.h"
+#include "boxplus/factors/pose/pose_point.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 #include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus::slam {
 
-std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e,
+std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e, const NoiseModel& noise,
                                                   PoseErrorConvention convention) {
   const Eigen::VectorXd& z = e.measurement;
-  const Eigen::MatrixXd& I = e.information;
   switch (e.kind) {
     case io::EdgeKind::kSE2:
-      return MakeRelativePose2D(z, I, convention);
+      return MakeRelativePose2D(z, noise, convention);
     case io::EdgeKind::kSE3:
-      return MakeRelativePose3D(z, I, convention);
+      return MakeRelativePose3D(z, noise, convention);
     case io::EdgeKind::kSE2Point2:
-      return MakePosePoint2D(z, I);
+      return MakePosePoint2D(z, noise);
     case io::EdgeKind::kSE3Point3:
-      return MakePosePoint3D(z, I);
+      return MakePosePoint3D(z, noise);
     case io::EdgeKind::kSE2BearingRange:
-      return MakeBearingRange2D(z, I);
+      return MakeBearingRange2D(z, noise);
   }
   throw Error("unknown edge kind");
 }
@@ -38,7 +37,7 @@ double EdgeChi2(const io::Edge& e, const double* a, const double* b,
   const double* z = e.measurement.data();
   if (convention == PoseErrorConvention::kSESync &&
       (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3)) {
-    const SESyncPrecisions p = SESyncPrecisionsOf(e.information);
+    const SESyncPrecisions p = SESyncPrecisionsOf(NoiseModel::Information(e.information));
     double r[12];
     const int n = e.kind == io::EdgeKind::kSE2 ? 6 : 12;
     if (n == 6) {
@@ -118,7 +117,14 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
   const int b = var_of_vertex_[graph_.VertexIndex(e.to)];
   const std::string name = "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
   try {
-    problem_.AddMeasurement(MakeEdgeCost(e, options_.convention), {a, b}, loss_, name);
+    // One model per edge: the factor whitens with it and the problem keeps it
+    // to un-whiten the edge's error. SE-Sync's residual is not W e, so its
+    // edges register a unit model (the error is the residual).
+    const NoiseModel noise = NoiseModel::Information(e.information, name + " information");
+    const bool chordal = options_.convention == PoseErrorConvention::kSESync &&
+                         (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
+    problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention), {a, b},
+                            chordal ? NoiseModel() : noise, loss_, name);
   } catch (const ParseError&) {
     throw;
   } catch (const Error& err) {

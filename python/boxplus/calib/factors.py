@@ -218,7 +218,7 @@ class CalibrationFactors:
         loss: LossSpec = None, name: str | None = None, group: str = "relative_pose",
     ) -> int:
         """r = W ((world_from_a⁻¹ · world_from_b) ⊟ a_from_b), tangent [δp, δθ]
-        (6-dim noise; factors/relative_pose.h)."""
+        (6-dim noise; factors/pose/relative_pose.h)."""
         what = _what(name, "relative pose", self._count())
         ids = self._check_ids([world_from_a, world_from_b], what)
         z = _pose(a_from_b, "a_from_b", what)
@@ -232,7 +232,7 @@ class CalibrationFactors:
         loss: LossSpec = None, name: str | None = None, group: str = "point",
     ) -> int:
         """A 3-D point measured in a sensor: r = W (cam_from_rig · world_from_rig⁻¹ ·
-        p_in_world − z) (factors/point.h); ``p_in_world`` a known point (3,) or the
+        p_in_world − z) (factors/pose/point.h); ``p_in_world`` a known point (3,) or the
         id of an Rn(3) variable."""
         what = _what(name, "point", self._count())
         if isinstance(p_in_world, (int, np.integer)):

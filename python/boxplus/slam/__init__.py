@@ -9,7 +9,7 @@
 
 Poses: SE2 ambient ``[x, y, θ]``; SE3 ambient ``[px, py, pz, qx, qy, qz, qw]``
 with tangent ``[δp, δθ]`` (translation first, ⊞ the compound R³ × SO(3)).
-Relative-pose errors (see ``cpp/include/boxplus/factors/relative_pose3d.h``),
+Relative-pose errors (see ``cpp/include/boxplus/factors/pose/relative_pose3d.h``),
 with ``Δ = z⁻¹ (xᵢ⁻¹ xⱼ)``:
 
 * ``convention="g2o"`` (default): ``e = [t(Δ), vec(q(Δ))]`` with ``w ≥ 0``,
@@ -19,7 +19,7 @@ with ``Δ = z⁻¹ (xᵢ⁻¹ xⱼ)``:
 * ``convention="sesync"`` (alias ``"chordal"``): SE-Sync's objective (Rosen et
   al., IJRR 2019), residual ``[√τ (tⱼ − tᵢ − Rᵢt̃ᵢⱼ), √κ vec(Rⱼ − RᵢR̃ᵢⱼ)]``
   with isotropic precisions τ, κ from Ω as SE-Sync's ``read_g2o_file``
-  computes them (``factors/relative_pose_sesync.h``); its chi2 is SE-Sync's
+  computes them (``factors/pose/relative_pose_sesync.h``); its chi2 is SE-Sync's
   ``f`` (``chi2_sesync``).
 
 The objective is ``chi2 = Σ eᵀΩe`` with the file's information matrices Ω

@@ -4,13 +4,13 @@
 // (ambient [p, qx, qy, qz, qw], tangent [δp, δθ] — translation first, ⊞ the
 // compound R³ × SO(3)), 2D/3D points (Rⁿ). Every edge becomes a measurement
 // with the file's information matrix:
-//   EDGE_SE2 / EDGE2            → MakeRelativePose2D (factors/relative_pose2d.h)
+//   EDGE_SE2 / EDGE2            → MakeRelativePose2D (factors/pose/relative_pose2d.h)
 //   EDGE_SE3:QUAT / EDGE3       → MakeRelativePose3D in the chosen convention
 //                                 (g2o's, or GTSAM's SE(3)-log; relative_pose3d.h)
 //   both, convention kSESync    → MakeRelativePose2D/3DSESync (SE-Sync's chordal
-//                                 objective; factors/relative_pose_sesync.h)
-//   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakePosePoint2D/3D (factors/pose_point.h)
-//   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/bearing_range.h)
+//                                 objective; factors/pose/relative_pose_sesync.h)
+//   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakePosePoint2D/3D (factors/pose/pose_point.h)
+//   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/pose/bearing_range.h)
 // optionally wrapped in a robust loss ρ with a width (Huber, Cauchy, ...).
 // The gauge: the vertices of the FIX lines are held constant, else the first
 // vertex of the file. The objective is Σ ρ(eᵀΩe) (chi2 without a robust loss;
@@ -28,15 +28,15 @@
 
 #include <ceres/loss_function.h>
 
-#include "boxplus/factors/relative_pose3d.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/problem.h"
 #include "boxplus/slam/load_report.h"
 
 namespace boxplus::slam {
 
-// Cost function of one edge.
-std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge,
+// Cost function of one edge, whitened by `noise` (the edge's information).
+std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge, const NoiseModel& noise,
                                                   PoseErrorConvention convention);
 
 // eᵀΩe of one edge at the given vertex values (ambient layouts as above); for

@@ -6,8 +6,8 @@
 // BetweenFactor<Pose2> with Pose2's default chart):
 //   Δ = z⁻¹ · (x_i⁻¹ · x_j)
 //   e = [t_Δ, θ_Δ] = [R_zᵀ (R_iᵀ (p_j − p_i) − t_z),  wrap(θ_j − θ_i − θ_z)]
-// Residual r = U e with UᵀU = Ω, the 3×3 information matrix in the order
-// [x, y, θ] (as g2o files store it); ½‖r‖² = ½ eᵀΩe, so Σ‖r‖² is g2o's chi2.
+// Residual r = W e with W the noise's whitening (3×3, order [x, y, θ]; for
+// NoiseModel::Information(Ω) WᵀW = Ω, Ω as g2o files store it); ½‖r‖² = ½ eᵀΩe, so Σ‖r‖² is g2o's chi2.
 // Blocks: x_i (3), x_j (3). kG2o: analytic Jacobians (tested against
 // autodiff and central differences; SE2's ⊞ has an identity Jacobian, so
 // ambient and tangent Jacobians coincide); kLog: autodiff. kSESync is not an
@@ -21,9 +21,10 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/errors.h"
 #include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
@@ -58,15 +59,14 @@ void RelativePose2DError(const T* xi, const T* xj, const double* z, T* e,
   }
 }
 
-// Analytic-Jacobian cost function for z = [x, y, θ] and information Ω (SPD,
-// checked: throws boxplus::Error otherwise).
-// kG2o: analytic Jacobians; kLog: autodiff.
+// Cost function for z = [x, y, θ] and a 3-dim noise (checked: throws
+// boxplus::Error otherwise). kG2o: analytic Jacobians; kLog: autodiff.
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(
-    const Eigen::Vector3d& z, const Eigen::Matrix3d& information,
+    const Eigen::Vector3d& z, const NoiseModel& noise,
     PoseErrorConvention convention = PoseErrorConvention::kG2o);
 // Autodiff in either convention (for tests and comparisons).
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(
-    const Eigen::Vector3d& z, const Eigen::Matrix3d& information,
+    const Eigen::Vector3d& z, const NoiseModel& noise,
     PoseErrorConvention convention = PoseErrorConvention::kG2o);
 
 }  // namespace boxplus

@@ -1,4 +1,4 @@
-#include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 
 #include "boxplus/errors.h"
 

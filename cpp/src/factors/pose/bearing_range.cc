@@ -1,4 +1,4 @@
-#include "boxplus/factors/bearing_range.h"
+#include "boxplus/factors/pose/bearing_range.h"
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -10,10 +10,8 @@ namespace {
 struct BearingRangeFunctor {
   template <typename T>
   bool operator()(const T* x, const T* l, T* r) const {
-    Eigen::Matrix<T, 2, 1> e;
-    if (!BearingRange2DError(x, l, z.data(), e.data())) return false;
-    Eigen::Map<Eigen::Matrix<T, 2, 1>> r_map(r);
-    r_map = U.cast<T>() * e;
+    if (!BearingRange2DError(x, l, z.data(), r)) return false;
+    WhitenInPlace<2>(U, r);
     return true;
   }
   Eigen::Vector2d z;
@@ -23,12 +21,11 @@ struct BearingRangeFunctor {
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakeBearingRange2D(const Eigen::Vector2d& z,
-                                                        const Eigen::Matrix2d& information) {
+                                                        const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite() && z[1] >= 0.0,
                 "bearing-range: measurement must be finite with a range >= 0");
-  const Eigen::Matrix2d U = NoiseModel::Information(information, "bearing-range").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<BearingRangeFunctor, 2, 3, 2>>(
-      new BearingRangeFunctor{z, U});
+      new BearingRangeFunctor{z, noise.Fixed<2>("bearing-range")});
 }
 
 }  // namespace boxplus

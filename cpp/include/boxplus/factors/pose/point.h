@@ -15,24 +15,23 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pinhole.h"
+#include "boxplus/factors/camera/models.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
 class PointFunctor {
  public:
-  PointFunctor(const Eigen::Vector3d& z, const Eigen::Matrix3d& sqrt_info,
+  PointFunctor(const Eigen::Vector3d& z, const Eigen::Matrix3d& W,
                const Eigen::Vector3d& p_in_world)
-      : z_(z), W_(sqrt_info), p_(p_in_world) {}
+      : z_(z), W_(W), p_(p_in_world) {}
 
   template <typename T>
   bool Residual(const T* x2world, const T* x2cam, const T* p_in_world, T* r) const {
     T p_in_cam[3];
     camera::ChainToCam(x2world, x2cam, p_in_world, p_in_cam);
-    Eigen::Matrix<T, 3, 1> e;
-    for (int i = 0; i < 3; ++i) e[i] = p_in_cam[i] - T(z_[i]);
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> out(r);
-    out = W_.cast<T>() * e;
+    for (int i = 0; i < 3; ++i) r[i] = p_in_cam[i] - T(z_[i]);
+    WhitenInPlace<3>(W_, r);
     return true;
   }
   template <typename T>
@@ -52,10 +51,11 @@ class PointFunctor {
 };
 
 // Known point: blocks (x2world, x2cam). Unknown point: (x2world, x2cam, p_in_world).
+// `noise` is 3-dim (checked).
 std::shared_ptr<ceres::CostFunction> MakePointFactor(const Eigen::Vector3d& z,
-                                                     const Eigen::Matrix3d& sqrt_info,
+                                                     const NoiseModel& noise,
                                                      const Eigen::Vector3d& p_in_world);
 std::shared_ptr<ceres::CostFunction> MakeLandmarkPointFactor(const Eigen::Vector3d& z,
-                                                             const Eigen::Matrix3d& sqrt_info);
+                                                             const NoiseModel& noise);
 
 }  // namespace boxplus

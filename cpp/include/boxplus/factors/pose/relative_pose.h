@@ -16,14 +16,15 @@
 #include <Eigen/Core>
 
 #include "boxplus/manifolds/se3.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
 class RelativePoseFunctor {
  public:
   RelativePoseFunctor(const Eigen::Matrix<double, 7, 1>& z_b2a,
-                      const Eigen::Matrix<double, 6, 6>& sqrt_info)
-      : z_(z_b2a), W_(sqrt_info) {}
+                      const Eigen::Matrix<double, 6, 6>& W)
+      : z_(z_b2a), W_(W) {}
 
   template <typename T>
   bool operator()(const T* a2world, const T* b2world, T* residual) const {
@@ -34,10 +35,8 @@ class RelativePoseFunctor {
     QuatMultiply(qinv, b2world + 3, b2a + 3);
     T z[7];
     for (int i = 0; i < 7; ++i) z[i] = T(z_[i]);
-    Eigen::Matrix<T, 6, 1> e;
-    SE3Ops::Minus(b2a, z, e.data());
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
-    out = W_.cast<T>() * e;
+    SE3Ops::Minus(b2a, z, residual);
+    WhitenInPlace<6>(W_, residual);
     return true;
   }
 
@@ -47,6 +46,6 @@ class RelativePoseFunctor {
 };
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePoseFactor(
-    const Eigen::Matrix<double, 7, 1>& z_b2a, const Eigen::Matrix<double, 6, 6>& sqrt_info);
+    const Eigen::Matrix<double, 7, 1>& z_b2a, const NoiseModel& noise);
 
 }  // namespace boxplus

@@ -1,5 +1,5 @@
-#include "boxplus/factors/relative_pose3d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>
@@ -189,10 +189,8 @@ class RelativePose3DLogCost final : public ceres::SizedCostFunction<6, 7, 7> {
 struct RelativePose3DFunctor {
   template <typename T>
   bool operator()(const T* xi, const T* xj, T* r) const {
-    Eigen::Matrix<T, 6, 1> e;
-    RelativePose3DError(xi, xj, z.data(), convention, e.data());
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> r_map(r);
-    r_map = U.cast<T>() * e;
+    RelativePose3DError(xi, xj, z.data(), convention, r);
+    WhitenInPlace<6>(U, r);
     return true;
   }
   Eigen::Matrix<double, 7, 1> z;
@@ -211,10 +209,10 @@ Eigen::Matrix<double, 7, 1> Normalized(const Eigen::Matrix<double, 7, 1>& z) {
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
-    const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
     PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
-  const Mat6 U = NoiseModel::Information(information, "relative pose 3D").sqrt_information();
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
+  const Mat6 U = noise.Fixed<6>("relative pose 3D");
   if (convention == PoseErrorConvention::kLog) {
     return std::make_shared<RelativePose3DLogCost>(Normalized(z), U);
   }
@@ -222,10 +220,10 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
 }
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
-    const Eigen::Matrix<double, 7, 1>& z, const Mat6& information,
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
     PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, information);
-  const Mat6 U = NoiseModel::Information(information, "relative pose 3D").sqrt_information();
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
+  const Mat6 U = noise.Fixed<6>("relative pose 3D");
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose3DFunctor, 6, 7, 7>>(
       new RelativePose3DFunctor{Normalized(z), U, convention});
 }

@@ -15,8 +15,8 @@
 //           u = V(ω)⁻¹ t_Δ, V the left Jacobian of SO(3). GTSAM orders its
 //           tangent [ω, u] and permutes the file's information matrix; here e
 //           is reordered instead, so the file's Ω applies unchanged.
-// Residual r = U e with UᵀU = Ω (6×6, order [x, y, z, rx, ry, rz] as stored in
-// g2o files); Σ‖r‖² is the chi2 of the convention (g2o's chi2, or 2× GTSAM's
+// Residual r = W e with W the noise's whitening (6×6, order [x, y, z, rx, ry,
+// rz]; for NoiseModel::Information(Ω) WᵀW = Ω, Ω as stored in g2o files); Σ‖r‖² is the chi2 of the convention (g2o's chi2, or 2× GTSAM's
 // graph.error()).
 // Blocks: x_i (7), x_j (7). kG2o has analytic Jacobians: the tangent
 // Jacobian J_t (6×6) is returned in ambient form J_t·4Qᵀ for the rotation
@@ -34,9 +34,10 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pose_error_convention.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/errors.h"
 #include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
@@ -97,14 +98,14 @@ void RelativePose3DError(const T* xi, const T* xj, const double* z,
   }
 }
 
-// z = [t, qx, qy, qz, qw] (normalised here), Ω 6×6 SPD (checked).
+// z = [t, qx, qy, qz, qw] (normalised here), a 6-dim noise (checked).
 // kG2o: analytic Jacobians; kLog: autodiff.
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
-    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information,
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
     PoseErrorConvention convention = PoseErrorConvention::kG2o);
 // Autodiff in either convention (for tests and comparisons).
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
-    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information,
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
     PoseErrorConvention convention);
 
 }  // namespace boxplus

@@ -1,5 +1,5 @@
-#include "boxplus/factors/relative_pose2d.h"
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/sized_cost_function.h>
@@ -67,10 +67,8 @@ class RelativePose2DCost final : public ceres::SizedCostFunction<3, 3, 3> {
 struct RelativePose2DFunctor {
   template <typename T>
   bool operator()(const T* xi, const T* xj, T* r) const {
-    Eigen::Matrix<T, 3, 1> e;
-    RelativePose2DError(xi, xj, z.data(), e.data(), convention);
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r_map(r);
-    r_map = U.cast<T>() * e;
+    RelativePose2DError(xi, xj, z.data(), r, convention);
+    WhitenInPlace<3>(U, r);
     return true;
   }
   Eigen::Vector3d z;
@@ -81,23 +79,21 @@ struct RelativePose2DFunctor {
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z,
-                                                        const Eigen::Matrix3d& information,
+                                                        const NoiseModel& noise,
                                                         PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, information);
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, noise);
   if (convention == PoseErrorConvention::kLog) {
-    return MakeRelativePose2DAutoDiff(z, information, convention);
+    return MakeRelativePose2DAutoDiff(z, noise, convention);
   }
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  const Eigen::Matrix3d U = NoiseModel::Information(information, "relative pose 2D").sqrt_information();
-  return std::make_shared<RelativePose2DCost>(z, U);
+  return std::make_shared<RelativePose2DCost>(z, noise.Fixed<3>("relative pose 2D"));
 }
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(
-    const Eigen::Vector3d& z, const Eigen::Matrix3d& information,
-    PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, information);
+    const Eigen::Vector3d& z, const NoiseModel& noise, PoseErrorConvention convention) {
+  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, noise);
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  const Eigen::Matrix3d U = NoiseModel::Information(information, "relative pose 2D").sqrt_information();
+  const Eigen::Matrix3d U = noise.Fixed<3>("relative pose 2D");
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose2DFunctor, 3, 3, 3>>(
       new RelativePose2DFunctor{z, U, convention});
 }

@@ -1,7 +1,7 @@
 // Relative-pose factor in SE-Sync's chordal convention (Rosen et al., IJRR
 // 2019): the objective
 //   f = Σ κᵢⱼ‖Rⱼ − RᵢR̃ᵢⱼ‖²_F + τᵢⱼ‖tⱼ − tᵢ − Rᵢt̃ᵢⱼ‖²
-// with isotropic precisions taken from each information matrix Ω (order
+// with isotropic precisions taken from each noise's information Ω (order
 // [translation, rotation], as g2o files store it), as SE-Sync's read_g2o_file
 // does:
 //   3D  τ = 3 / tr(Ω_t⁻¹),  κ = 3 / (2 tr(Ω_R⁻¹))
@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include "boxplus/noise.h"
+
 namespace boxplus {
 
 struct SESyncPrecisions {
@@ -25,9 +27,9 @@ struct SESyncPrecisions {
   double kappa;
 };
 
-// τ and κ of a 3×3 (2D) or 6×6 (3D) information matrix; throws
-// boxplus::Error unless Ω is symmetric positive definite.
-SESyncPrecisions SESyncPrecisionsOf(const Eigen::MatrixXd& information);
+// τ and κ of a 3-dim (2D) or 6-dim (3D) noise's information Ω; throws
+// boxplus::Error for other dimensions.
+SESyncPrecisions SESyncPrecisionsOf(const NoiseModel& noise);
 
 // Row-major rotation matrix of a unit quaternion [x, y, z, w].
 template <typename T>
@@ -87,10 +89,11 @@ void RelativePose3DSESyncResidual(const T* xi, const T* xj, const double* z,
   }
 }
 
-// Autodiff cost functions. z: [x, y, θ] / [t, q] (q normalised here); Ω SPD.
-std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(
-    const Eigen::Vector3d& z, const Eigen::Matrix3d& information);
+// Autodiff cost functions. z: [x, y, θ] / [t, q] (q normalised here). The
+// residual is not W e: register it with a unit NoiseModel.
+std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vector3d& z,
+                                                              const NoiseModel& noise);
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
-    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information);
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise);
 
 }  // namespace boxplus

@@ -1,4 +1,4 @@
-#include "boxplus/factors/pose_point.h"
+#include "boxplus/factors/pose/pose_point.h"
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -11,14 +11,12 @@ template <int D>
 struct PosePointFunctor {
   template <typename T>
   bool operator()(const T* x, const T* l, T* r) const {
-    Eigen::Matrix<T, D, 1> e;
     if constexpr (D == 2) {
-      PosePoint2DError(x, l, z.data(), e.data());
+      PosePoint2DError(x, l, z.data(), r);
     } else {
-      PosePoint3DError(x, l, z.data(), e.data());
+      PosePoint3DError(x, l, z.data(), r);
     }
-    Eigen::Map<Eigen::Matrix<T, D, 1>> r_map(r);
-    r_map = U.template cast<T>() * e;
+    WhitenInPlace<D>(U, r);
     return true;
   }
   Eigen::Matrix<double, D, 1> z;
@@ -28,19 +26,17 @@ struct PosePointFunctor {
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakePosePoint2D(const Eigen::Vector2d& z,
-                                                     const Eigen::Matrix2d& information) {
+                                                     const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite(), "pose-point 2D: measurement must be finite");
-  const Eigen::Matrix2d U = NoiseModel::Information(information, "pose-point 2D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<PosePointFunctor<2>, 2, 3, 2>>(
-      new PosePointFunctor<2>{z, U});
+      new PosePointFunctor<2>{z, noise.Fixed<2>("pose-point 2D")});
 }
 
 std::shared_ptr<ceres::CostFunction> MakePosePoint3D(const Eigen::Vector3d& z,
-                                                     const Eigen::Matrix3d& information) {
+                                                     const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite(), "pose-point 3D: measurement must be finite");
-  const Eigen::Matrix3d U = NoiseModel::Information(information, "pose-point 3D").sqrt_information();
   return std::make_shared<ceres::AutoDiffCostFunction<PosePointFunctor<3>, 3, 7, 3>>(
-      new PosePointFunctor<3>{z, U});
+      new PosePointFunctor<3>{z, noise.Fixed<3>("pose-point 3D")});
 }
 
 }  // namespace boxplus

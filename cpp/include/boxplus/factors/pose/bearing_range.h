@@ -5,7 +5,7 @@
 // frame; measurement z = [bearing (rad, counter-clockwise from the pose's x
 // axis), range (m)]. With v = R(θ)ᵀ (l − p), the landmark in the pose frame,
 //   e = [wrap(atan2(v_y, v_x) − z_b),  ‖v‖ − z_r]
-// residual r = U e, UᵀU = Ω (2×2, order [bearing, range]). Blocks: pose (3),
+// residual r = W e, W the noise's whitening (2×2, order [bearing, range]). Blocks: pose (3),
 // landmark (2). Undefined when the landmark sits on the pose (‖v‖ = 0):
 // Evaluate then returns false and the solver rejects the step.
 #pragma once
@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
@@ -37,6 +38,6 @@ bool BearingRange2DError(const T* x, const T* l, const double* z, T* e) {
 }
 
 std::shared_ptr<ceres::CostFunction> MakeBearingRange2D(const Eigen::Vector2d& z,
-                                                        const Eigen::Matrix2d& information);
+                                                        const NoiseModel& noise);
 
 }  // namespace boxplus

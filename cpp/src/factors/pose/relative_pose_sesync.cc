@@ -1,4 +1,4 @@
-#include "boxplus/factors/relative_pose_sesync.h"
+#include "boxplus/factors/pose/relative_pose_sesync.h"
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -33,11 +33,11 @@ struct SESync3DFunctor {
 
 }  // namespace
 
-SESyncPrecisions SESyncPrecisionsOf(const Eigen::MatrixXd& information) {
-  const int n = static_cast<int>(information.rows());
-  BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: information must be 3×3 or 6×6, got ",
-                information.rows(), "×", information.cols());
-  NoiseModel::Information(information, "relative pose (SE-Sync)").sqrt_information();  // SPD check
+SESyncPrecisions SESyncPrecisionsOf(const NoiseModel& noise) {
+  const int n = noise.dim();
+  BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: noise must be of dimension 3 or 6, got ",
+                n);
+  const Eigen::MatrixXd information = noise.information();
   const int d = n == 3 ? 2 : 3;
   const Eigen::MatrixXd Ot = information.topLeftCorner(d, d);
   SESyncPrecisions p;
@@ -52,20 +52,20 @@ SESyncPrecisions SESyncPrecisionsOf(const Eigen::MatrixXd& information) {
 }
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vector3d& z,
-                                                              const Eigen::Matrix3d& information) {
+                                                              const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D (SE-Sync): measurement must be finite");
   return std::make_shared<ceres::AutoDiffCostFunction<SESync2DFunctor, 6, 3, 3>>(
-      new SESync2DFunctor{z, SESyncPrecisionsOf(information)});
+      new SESync2DFunctor{z, SESyncPrecisionsOf(noise)});
 }
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
-    const Eigen::Matrix<double, 7, 1>& z, const Eigen::Matrix<double, 6, 6>& information) {
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite(), "relative pose 3D (SE-Sync): measurement must be finite");
   Eigen::Matrix<double, 7, 1> zn = z;
   BOXPLUS_CHECK(NormalizeQuaternion(z.data() + 3, zn.data() + 3),
                 "relative pose 3D (SE-Sync): measured quaternion has zero norm");
   return std::make_shared<ceres::AutoDiffCostFunction<SESync3DFunctor, 12, 7, 7>>(
-      new SESync3DFunctor{zn, SESyncPrecisionsOf(information)});
+      new SESync3DFunctor{zn, SESyncPrecisionsOf(noise)});
 }
 
 }  // namespace boxplus

@@ -5,7 +5,7 @@
 // [δp, δθ]; landmark l ∈ Rᵈ in the parent (world) frame; measurement z ∈ Rᵈ,
 // the landmark in the pose's frame. Error
 //   e = x⁻¹ · l − z = Rᵀ (l − p) − z
-// residual r = U e, UᵀU = Ω (d×d). Blocks: pose (3 or 7), landmark (d).
+// residual r = W e, W the noise's whitening (d×d). Blocks: pose (3 or 7), landmark (d).
 // Autodiff (fixed sizes).
 #pragma once
 
@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "boxplus/manifolds/rotation_math.h"
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
@@ -39,8 +40,8 @@ void PosePoint3DError(const T* x, const T* l, const double* z, T* e) {
 }
 
 std::shared_ptr<ceres::CostFunction> MakePosePoint2D(const Eigen::Vector2d& z,
-                                                     const Eigen::Matrix2d& information);
+                                                     const NoiseModel& noise);
 std::shared_ptr<ceres::CostFunction> MakePosePoint3D(const Eigen::Vector3d& z,
-                                                     const Eigen::Matrix3d& information);
+                                                     const NoiseModel& noise);
 
 }  // namespace boxplus

@@ -1,9 +1,9 @@
-#include "boxplus/factors/make_prior.h"
+#include "boxplus/factors/pose/make_prior.h"
 
 #include <ceres/dynamic_autodiff_cost_function.h>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/prior.h"
+#include "boxplus/factors/pose/prior.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {
