@@ -5,12 +5,14 @@ VENV   := .venv
 VPY    := $(VENV)/bin/python
 JOBS   ?= 2
 CPP_BUILD := build/cpp
+CXX_SOURCES = $(shell git ls-files 'cpp/*.h' 'cpp/*.cc' 'python/bindings/*.h' 'python/bindings/*.cc' \
+                'tests/cpp/*.cc' 'tests/cpp/*.h' 'examples/cpp_consumer/*.cc')
 # With ccache installed, paths inside the checkout are hashed relative to it,
 # so clones and worktrees of the project share compiled objects.
 export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
-.PHONY: demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
+.PHONY: format demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
 
 demo: install
 	$(VPY) examples/demo.py
@@ -53,6 +55,11 @@ py-test: install
 lint: venv
 	$(VPY) -m ruff check --no-cache python tests examples bench
 	$(VPY) -m mypy python/boxplus examples
+	clang-format --dry-run -Werror $(CXX_SOURCES)
+
+# clang-format (.clang-format: Google, 100 columns) over every C++ file.
+format:
+	clang-format -i $(CXX_SOURCES)
 
 # Regenerates the committed stub of the extension from the installed module
 # (tests/python/test_stubs.py fails when the two differ).

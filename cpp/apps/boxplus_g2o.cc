@@ -232,8 +232,8 @@ int main(int argc, char** argv) {
                  input.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
                  pg->graph().dimension, pg->gauge_vertex(), report.read_s + report.init_s,
                  report.build_s);
-    std::fprintf(stderr, "# initial chi2 %.10g (convention %s, init %s, solver %s)\n",
-                 pg->Chi2(), boxplus::ToString(load.graph.convention), init.c_str(),
+    std::fprintf(stderr, "# initial chi2 %.10g (convention %s, init %s, solver %s)\n", pg->Chi2(),
+                 boxplus::ToString(load.graph.convention), init.c_str(),
                  boxplus::MethodName(so.method).c_str());
     if (!quiet) std::fprintf(progress, "%s\n", boxplus::ProgressHeader().c_str());
     so.on_iteration = [quiet, progress](const boxplus::IterationInfo& it) {
@@ -243,8 +243,7 @@ int main(int argc, char** argv) {
       }
       return !g_interrupted.load();
     };
-    const boxplus::SolveSummary s =
-        g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
+    const boxplus::SolveSummary s = g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
     if (full_report) std::fprintf(stderr, "%s\n", s.report.c_str());
     std::fprintf(stderr, "# %s (%s)%s\n", boxplus::FormatSummary(s).c_str(),
                  load.graph.robust == "none" ? "no robust kernel" : load.graph.robust.c_str(),

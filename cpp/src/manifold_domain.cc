@@ -14,8 +14,8 @@ void NormaliseUnit(double* v, int n, const char* kind, const std::string& what) 
   Eigen::Map<Eigen::VectorXd> x(v, n);
   const double norm = x.stableNorm();
   BOXPLUS_CHECK(norm > 0.0, what, ": the ", kind, " is zero");
-  BOXPLUS_CHECK(std::isfinite(norm) && std::abs(norm - 1.0) <= kUnitTolerance, what,
-                ": the ", kind, " has norm ", norm, ", not 1 (within ", kUnitTolerance, ")");
+  BOXPLUS_CHECK(std::isfinite(norm) && std::abs(norm - 1.0) <= kUnitTolerance, what, ": the ", kind,
+                " has norm ", norm, ", not 1 (within ", kUnitTolerance, ")");
   x /= norm;
 }
 

@@ -4,8 +4,7 @@
 
 namespace boxplus {
 
-ProductManifold::ProductManifold(
-    std::vector<std::shared_ptr<const ceres::Manifold>> members)
+ProductManifold::ProductManifold(std::vector<std::shared_ptr<const ceres::Manifold>> members)
     : members_(std::move(members)) {
   BOXPLUS_CHECK(!members_.empty(), "a compound needs at least one member");
   for (const auto& m : members_) {
@@ -17,8 +16,7 @@ ProductManifold::ProductManifold(
   }
 }
 
-bool ProductManifold::Plus(const double* x, const double* delta,
-                           double* x_plus_delta) const {
+bool ProductManifold::Plus(const double* x, const double* delta, double* x_plus_delta) const {
   for (size_t i = 0; i < members_.size(); ++i) {
     if (!members_[i]->Plus(x + ambient_offsets_[i], delta + tangent_offsets_[i],
                            x_plus_delta + ambient_offsets_[i])) {
@@ -28,8 +26,7 @@ bool ProductManifold::Plus(const double* x, const double* delta,
   return true;
 }
 
-bool ProductManifold::Minus(const double* y, const double* x,
-                            double* y_minus_x) const {
+bool ProductManifold::Minus(const double* y, const double* x, double* y_minus_x) const {
   for (size_t i = 0; i < members_.size(); ++i) {
     if (!members_[i]->Minus(y + ambient_offsets_[i], x + ambient_offsets_[i],
                             y_minus_x + tangent_offsets_[i])) {
@@ -40,8 +37,7 @@ bool ProductManifold::Minus(const double* y, const double* x,
 }
 
 namespace {
-using RowMajor =
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 }  // namespace
 
 bool ProductManifold::PlusJacobian(const double* x, double* jacobian) const {
@@ -72,16 +68,14 @@ bool ProductManifold::MinusJacobian(const double* x, double* jacobian) const {
   return true;
 }
 
-std::shared_ptr<const ceres::Manifold> MakeManifold(const std::string& kind,
-                                                    int n) {
+std::shared_ptr<const ceres::Manifold> MakeManifold(const std::string& kind, int n) {
   if (kind == "Rn") return std::make_shared<RnManifold>(n);
   if (kind == "SO2") return std::make_shared<SO2Manifold>();
   if (kind == "SO3") return std::make_shared<SO3Manifold>();
   if (kind == "SE2") return std::make_shared<SE2Manifold>();
   if (kind == "SE3") return std::make_shared<SE3Manifold>();
   if (kind == "S2") return std::make_shared<S2Manifold>();
-  throw Error("unknown manifold kind '" + kind +
-              "' (expected Rn, SO2, SO3, SE2, SE3 or S2)");
+  throw Error("unknown manifold kind '" + kind + "' (expected Rn, SO2, SO3, SE2, SE3 or S2)");
 }
 
 }  // namespace boxplus

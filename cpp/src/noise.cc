@@ -23,8 +23,7 @@ void CheckSymmetric(const Eigen::MatrixXd& m, const std::string& what, const cha
 }
 
 // Lower Cholesky factor of an SPD matrix, or a named error.
-Eigen::MatrixXd CholeskyLower(const Eigen::MatrixXd& m, const std::string& what,
-                              const char* kind) {
+Eigen::MatrixXd CholeskyLower(const Eigen::MatrixXd& m, const std::string& what, const char* kind) {
   CheckSquareFinite(m, what, kind);
   CheckSymmetric(m, what, kind);
   Eigen::LLT<Eigen::MatrixXd> llt(m);

@@ -38,8 +38,7 @@ struct Problem::Measurement {
 // Ceres accepts one EvaluationCallback per problem; this one fans out.
 class Problem::HookDispatcher final : public ceres::EvaluationCallback {
  public:
-  void PrepareForEvaluation(bool evaluate_jacobians,
-                            bool new_evaluation_point) override {
+  void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
     for (auto& hook : hooks) hook(evaluate_jacobians, new_evaluation_point);
   }
   std::vector<EvaluationHook> hooks;
@@ -78,7 +77,8 @@ class Problem::Busy {
       held_ = false;
       return;
     }
-    BOXPLUS_CHECK(owner != me, what, ": not allowed while the problem is being solved "
+    BOXPLUS_CHECK(owner != me, what,
+                  ": not allowed while the problem is being solved "
                   "(from an iteration callback or an evaluation hook)");
     throw ::boxplus::Error(std::string(what) +
                            ": problem is already being solved in another thread");
@@ -101,18 +101,17 @@ Problem::Problem()
 Problem::~Problem() = default;
 
 void Problem::CheckVariable(int id) const {
-  BOXPLUS_CHECK_INDEX(id >= 0 && id < num_variables(), "unknown variable id ",
-                      id, " (the problem has ", num_variables(), " variables)");
+  BOXPLUS_CHECK_INDEX(id >= 0 && id < num_variables(), "unknown variable id ", id,
+                      " (the problem has ", num_variables(), " variables)");
 }
 
 void Problem::CheckMeasurement(int id) const {
-  BOXPLUS_CHECK_INDEX(id >= 0 && id < num_measurements(),
-                      "unknown measurement id ", id, " (the problem has ",
-                      num_measurements(), " measurements)");
+  BOXPLUS_CHECK_INDEX(id >= 0 && id < num_measurements(), "unknown measurement id ", id,
+                      " (the problem has ", num_measurements(), " measurements)");
 }
 
-int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
-                         const double* init, const std::string& name) {
+int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const double* init,
+                         const std::string& name) {
   const Busy busy(*this, "AddVariable");
   const int id = num_variables();
   const std::string what = "variable " + (name.empty() ? std::to_string(id) : "'" + name + "'");
@@ -124,8 +123,8 @@ int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
   auto v = std::make_unique<Variable>();
   v->euclidean = internal::IsEuclidean(*manifold);
   // Ceres stores an ambient × tangent Plus Jacobian for every manifold.
-  BOXPLUS_CHECK(v->euclidean || static_cast<long long>(n) * t <= kCeresMaxEntries, what,
-                ": its ", n, " x ", t, " Plus Jacobian has more entries than Ceres can index");
+  BOXPLUS_CHECK(v->euclidean || static_cast<long long>(n) * t <= kCeresMaxEntries, what, ": its ",
+                n, " x ", t, " Plus Jacobian has more entries than Ceres can index");
   v->data.reset(new double[n]);
   v->manifold = std::move(manifold);
   v->name = name.empty() ? "x" + std::to_string(id) : name;
@@ -195,33 +194,27 @@ bool Problem::IsTouched(int id) const {
 
 int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                             const std::vector<int>& var_ids, const NoiseModel& noise,
-                            std::shared_ptr<ceres::LossFunction> loss,
-                            const std::string& name) {
+                            std::shared_ptr<ceres::LossFunction> loss, const std::string& name) {
   const Busy busy(*this, "AddMeasurement");
   const int id = num_measurements();
-  const std::string what =
-      "measurement " + (name.empty() ? std::to_string(id) : "'" + name + "'");
+  const std::string what = "measurement " + (name.empty() ? std::to_string(id) : "'" + name + "'");
   BOXPLUS_CHECK(cost != nullptr, what, ": no cost function");
   BOXPLUS_CHECK(!var_ids.empty(), what, ": depends on no variable");
   const auto& sizes = cost->parameter_block_sizes();
-  BOXPLUS_CHECK(sizes.size() == var_ids.size(), what, ": its function takes ",
-                sizes.size(), " variables but ", var_ids.size(),
-                " were given");
+  BOXPLUS_CHECK(sizes.size() == var_ids.size(), what, ": its function takes ", sizes.size(),
+                " variables but ", var_ids.size(), " were given");
   BOXPLUS_CHECK(cost->num_residuals() > 0, what, ": has no residuals");
   BOXPLUS_CHECK(noise.dim() == 0 || cost->num_residuals() % noise.dim() == 0, what,
-                ": noise of dimension ", noise.dim(), " for ", cost->num_residuals(),
-                " residuals");
+                ": noise of dimension ", noise.dim(), " for ", cost->num_residuals(), " residuals");
   std::vector<double*> blocks;
   std::set<int> seen;
   for (size_t k = 0; k < var_ids.size(); ++k) {
     const int v = var_ids[k];
-    BOXPLUS_CHECK_INDEX(v >= 0 && v < num_variables(), what,
-                        ": unknown variable id ", v, " (argument ", k, ")");
-    BOXPLUS_CHECK(seen.insert(v).second, what, ": variable '", vars_[v]->name,
-                  "' is listed twice");
-    BOXPLUS_CHECK(sizes[k] == vars_[v]->manifold->AmbientSize(), what,
-                  ": argument ", k, " expects ", sizes[k],
-                  " ambient coordinates but variable '", vars_[v]->name,
+    BOXPLUS_CHECK_INDEX(v >= 0 && v < num_variables(), what, ": unknown variable id ", v,
+                        " (argument ", k, ")");
+    BOXPLUS_CHECK(seen.insert(v).second, what, ": variable '", vars_[v]->name, "' is listed twice");
+    BOXPLUS_CHECK(sizes[k] == vars_[v]->manifold->AmbientSize(), what, ": argument ", k,
+                  " expects ", sizes[k], " ambient coordinates but variable '", vars_[v]->name,
                   "' has ", vars_[v]->manifold->AmbientSize());
     blocks.push_back(vars_[v]->data.get());
   }
@@ -234,13 +227,15 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
     ambient += vars_[v]->manifold->AmbientSize();
     tangent += vars_[v]->manifold->TangentSize();
   }
-  BOXPLUS_CHECK(nr * ambient <= kCeresMaxEntries &&
-                    jacobian_entries_ + nr * tangent <= kCeresMaxEntries,
-                what, ": its Jacobian (", nr, " residuals x ", ambient,
-                " coordinates) takes the problem past the ", kCeresMaxEntries,
-                " Jacobian entries Ceres can index");
-  BOXPLUS_CHECK(tangent * tangent <= kCeresMaxEntries, what, ": its block of the normal "
-                "equations (", tangent, " x ", tangent, " tangent coordinates) has more than the ",
+  BOXPLUS_CHECK(
+      nr * ambient <= kCeresMaxEntries && jacobian_entries_ + nr * tangent <= kCeresMaxEntries,
+      what, ": its Jacobian (", nr, " residuals x ", ambient,
+      " coordinates) takes the problem past the ", kCeresMaxEntries,
+      " Jacobian entries Ceres can index");
+  BOXPLUS_CHECK(tangent * tangent <= kCeresMaxEntries, what,
+                ": its block of the normal "
+                "equations (",
+                tangent, " x ", tangent, " tangent coordinates) has more than the ",
                 kCeresMaxEntries, " entries Ceres can index");
   jacobian_entries_ += nr * tangent;
   for (int v : var_ids) ++vars_[v]->num_measurements;
@@ -327,9 +322,9 @@ SolveSummary Problem::SolveByLineSearch(const SolverOptions& options) {
   std::vector<internal::LsqTerm> terms;
   terms.reserve(meas_.size());
   for (const Measurement& m : meas_) terms.push_back({m.cost.get(), m.loss.get(), m.vars});
-  return internal::SolveGaussNewtonLineSearch(
-      blocks, terms, options,
-      [this](bool jacobians) { hooks_->PrepareForEvaluation(jacobians, true); });
+  return internal::SolveGaussNewtonLineSearch(blocks, terms, options, [this](bool jacobians) {
+    hooks_->PrepareForEvaluation(jacobians, true);
+  });
 }
 
 // Names the first measurement whose residual cannot be evaluated, is not
@@ -361,8 +356,8 @@ Eigen::VectorXd Problem::Residual(int measurement_id) {
   for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
   hooks_->PrepareForEvaluation(false, true);
   Eigen::VectorXd r(m.cost->num_residuals());
-  BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), r.data(), nullptr),
-                "measurement '", m.name, "': evaluation failed");
+  BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), r.data(), nullptr), "measurement '", m.name,
+                "': evaluation failed");
   return r;
 }
 
@@ -409,8 +404,7 @@ JacobianEvaluation Problem::EvaluateJacobian() {
   if (!problem_->Evaluate(eo, &cost, &residuals, nullptr, &crs)) {
     throw ::boxplus::Error("evaluating the Jacobian failed; " + FirstNonFiniteMeasurement());
   }
-  BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols,
-                "Jacobian has an unexpected shape");
+  BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols, "Jacobian has an unexpected shape");
   out.residuals = Eigen::Map<Eigen::VectorXd>(residuals.data(), rows);
   for (int r = 0; r < rows; ++r) {
     for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) {
@@ -440,13 +434,13 @@ Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
   }
   if (untouched.size() == 1) {
     throw ::boxplus::Error("variable " + untouched[0] +
-                " is not touched by any measurement: its covariance is undetermined");
+                           " is not touched by any measurement: its covariance is undetermined");
   }
   if (!untouched.empty()) {
     std::string names = untouched[0];
     for (size_t k = 1; k < untouched.size(); ++k) names += ", " + untouched[k];
     throw ::boxplus::Error("variables " + names +
-                " are not touched by any measurement: their covariance is undetermined");
+                           " are not touched by any measurement: their covariance is undetermined");
   }
   if (ids.empty()) return Eigen::MatrixXd(0, 0);
   ceres::Covariance::Options co;
@@ -461,20 +455,17 @@ Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
   }
   std::string names;
   for (int id : ids) names += (names.empty() ? "'" : ", '") + vars_[id]->name + "'";
-  BOXPLUS_CHECK(cov.Compute(pairs, problem_.get()),
-                "covariance of ", names,
+  BOXPLUS_CHECK(cov.Compute(pairs, problem_.get()), "covariance of ", names,
                 " is undefined: the measurements do not determine every "
                 "parameter (rank-deficient Jacobian)");
   Eigen::MatrixXd out(total, total);
-  using RowMajor =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   for (size_t i = 0; i < ids.size(); ++i) {
     for (size_t j = i; j < ids.size(); ++j) {
       const int ni = vars_[ids[i]]->manifold->TangentSize();
       const int nj = vars_[ids[j]]->manifold->TangentSize();
       RowMajor block(ni, nj);
-      cov.GetCovarianceBlockInTangentSpace(vars_[ids[i]]->data.get(),
-                                           vars_[ids[j]]->data.get(),
+      cov.GetCovarianceBlockInTangentSpace(vars_[ids[i]]->data.get(), vars_[ids[j]]->data.get(),
                                            block.data());
       out.block(offsets[i], offsets[j], ni, nj) = block;
       out.block(offsets[j], offsets[i], nj, ni) = block.transpose();

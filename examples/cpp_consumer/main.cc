@@ -32,7 +32,8 @@ int main() {
               summary.termination.c_str(), summary.iterations, summary.final_cost);
   std::printf("position %.4f %.4f %.4f (mean of observations %.4f %.4f %.4f)\n", est.pos()[0],
               est.pos()[1], est.pos()[2], mean_pos[0], mean_pos[1], mean_pos[2]);
-  std::printf("rotation error vs truth: %.4f rad\n", est.rotation().boxminus(truth.rotation()).norm());
+  std::printf("rotation error vs truth: %.4f rad\n",
+              est.rotation().boxminus(truth.rotation()).norm());
   const double pos_error = (est.pos() - mean_pos).norm();
   std::printf("|position - mean of observations| = %.2e\n", pos_error);
   // LM damping leaves a tiny bias after the last accepted step.

@@ -27,8 +27,8 @@ void Raise(PyObject* type, const std::string& message) {
 }  // namespace
 
 py::str SafeStr(const std::string& bytes) {
-  PyObject* s = PyUnicode_DecodeUTF8(bytes.data(), static_cast<Py_ssize_t>(bytes.size()),
-                                     "backslashreplace");
+  PyObject* s =
+      PyUnicode_DecodeUTF8(bytes.data(), static_cast<Py_ssize_t>(bytes.size()), "backslashreplace");
   if (s == nullptr) throw py::error_already_set();
   return py::reinterpret_steal<py::str>(s);
 }
@@ -58,17 +58,17 @@ void SetPythonError(const std::exception& e) {
 
 void RegisterErrors(py::module_& m) {
   auto make = [&](const char* name, PyObject* base, const char* doc) {
-    PyObject* type = PyErr_NewExceptionWithDoc(
-        (std::string("boxplus._core.") + name).c_str(), doc, base, nullptr);
+    PyObject* type = PyErr_NewExceptionWithDoc((std::string("boxplus._core.") + name).c_str(), doc,
+                                               base, nullptr);
     if (type == nullptr) throw py::error_already_set();
     m.add_object(name, py::handle(type));
     return type;
   };
   boxplus_error = make("BoxplusError", PyExc_ValueError, "Bad input refused by boxplus.");
-  index_error = make("BoxplusIndexError", PyExc_IndexError,
-                     "An id that names no variable or measurement.");
-  parse_error = make("ParseError", boxplus_error,
-                     "A malformed input file; .file and .line name the place.");
+  index_error =
+      make("BoxplusIndexError", PyExc_IndexError, "An id that names no variable or measurement.");
+  parse_error =
+      make("ParseError", boxplus_error, "A malformed input file; .file and .line name the place.");
   py::register_exception_translator([](std::exception_ptr p) {
     if (!p) return;
     try {

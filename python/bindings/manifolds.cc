@@ -12,14 +12,12 @@ namespace py = pybind11;
 namespace boxplus::python {
 namespace {
 
-using RowMatrix =
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-void CheckSize(const Eigen::Ref<const Eigen::VectorXd>& v, int n,
-               const char* what) {
+void CheckSize(const Eigen::Ref<const Eigen::VectorXd>& v, int n, const char* what) {
   if (v.size() != n) {
-    throw py::value_error(std::string(what) + " must have " + std::to_string(n) +
-                          " entries, got " + std::to_string(v.size()));
+    throw py::value_error(std::string(what) + " must have " + std::to_string(n) + " entries, got " +
+                          std::to_string(v.size()));
   }
 }
 
@@ -107,8 +105,8 @@ Jacobians are those Ceres defines: ``plus_jacobian(x)`` is d(x ⊞ δ)/dδ at
           },
           py::arg("x"))
       .def("__repr__", [](const ManifoldHandle& h) {
-        return "<boxplus.Manifold " + h.kind + " ambient=" +
-               std::to_string(h.manifold->AmbientSize()) +
+        return "<boxplus.Manifold " + h.kind +
+               " ambient=" + std::to_string(h.manifold->AmbientSize()) +
                " tangent=" + std::to_string(h.manifold->TangentSize()) + ">";
       });
 
@@ -126,8 +124,7 @@ Jacobians are those Ceres defines: ``plus_jacobian(x)`` is d(x ⊞ δ)/dδ at
         for (const auto& h : members) ms.push_back(h.manifold);
         return ManifoldHandle{std::make_shared<ProductManifold>(ms), "Compound"};
       },
-      py::arg("members"),
-      "The Cartesian product of the given manifolds; ⊞/⊟ act member-wise.");
+      py::arg("members"), "The Cartesian product of the given manifolds; ⊞/⊟ act member-wise.");
 }
 
 }  // namespace boxplus::python

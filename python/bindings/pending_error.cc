@@ -17,7 +17,6 @@ void ErrorSlot::Store(py::error_already_set&& e) {
   if (!error_) error_ = std::make_unique<py::error_already_set>(std::move(e));
 }
 
-
 ErrorScope::ErrorScope() : previous_(current_scope) { current_scope = this; }
 ErrorScope::~ErrorScope() { current_scope = previous_; }
 

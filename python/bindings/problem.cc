@@ -34,9 +34,10 @@ std::string VariableWhat(const Problem& p, int id) {
 bool CallbackContinues(const py::object& r) {
   if (r.is_none()) return true;
   const std::string type = py::str(py::type::of(r).attr("__name__"));
-  if (py::isinstance<py::bool_>(r) || type == "bool_" || type == "bool") return r.cast<bool>();  // numpy bools too
-  throw py::type_error("the solve callback must return None, True or False, got " + type +
-                       " " + std::string(py::repr(r)).substr(0, 80));
+  if (py::isinstance<py::bool_>(r) || type == "bool_" || type == "bool")
+    return r.cast<bool>();  // numpy bools too
+  throw py::type_error("the solve callback must return None, True or False, got " + type + " " +
+                       std::string(py::repr(r)).substr(0, 80));
 }
 
 }  // namespace
@@ -65,7 +66,8 @@ The public, friendlier front is boxplus.OptimizationProblem.
       .def_property_readonly("num_variables", &Problem::num_variables)
       .def_property_readonly("num_measurements", &Problem::num_measurements)
       .def(
-          "value", [](const Problem& p, int id) {
+          "value",
+          [](const Problem& p, int id) {
             const int n = p.manifold(id).AmbientSize();
             return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(p.value(id), n));
           },
@@ -74,7 +76,8 @@ The public, friendlier front is boxplus.OptimizationProblem.
           "set_value",
           [](Problem& p, int id, const Eigen::VectorXd& v) {
             if (v.size() != p.manifold(id).AmbientSize()) {
-              throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) + "'");
+              throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) +
+                                    "'");
             }
             if (auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
               pm->Validate(v.data(), VariableWhat(p, id));
@@ -91,7 +94,8 @@ The public, friendlier front is boxplus.OptimizationProblem.
           "add_prior",
           [](Problem& p, int id, const Eigen::VectorXd& z, const NoiseModel& noise,
              const std::string& name, const LossHandle* loss) {
-            const std::string what = "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
+            const std::string what =
+                "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
             return p.AddMeasurement(MakePrior(p.manifold(id), z, noise, what), {id}, noise,
                                     loss ? loss->loss : nullptr, name);
           },
@@ -100,10 +104,10 @@ The public, friendlier front is boxplus.OptimizationProblem.
           "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.")
       .def("noise", &Problem::noise, py::arg("measurement_id"),
            "The noise model a measurement whitens with.")
-      .def("error",
-           [](Problem& p, int id) { return RaisingPython([&] { return p.Error(id); }); },
-           py::arg("measurement_id"),
-           "Un-whitened error e = W⁻¹ r of one measurement, in its own units.")
+      .def(
+          "error", [](Problem& p, int id) { return RaisingPython([&] { return p.Error(id); }); },
+          py::arg("measurement_id"),
+          "Un-whitened error e = W⁻¹ r of one measurement, in its own units.")
       .def(
           "solve",
           [](Problem& p, const py::object& options, const py::object& callback,
@@ -183,11 +187,13 @@ SolveSummary
     Raises the Python exception of a failing measurement function, manifold
     or callback, with its traceback.
 )doc")
-      .def("cost", [](Problem& p) { return RaisingPython([&] { return p.Cost(); }); },
-           "½ Σ ρ(‖rᵢ‖²) at the current values.")
-      .def("residual",
-           [](Problem& p, int id) { return RaisingPython([&] { return p.Residual(id); }); },
-           py::arg("measurement_id"), "Whitened residual of one measurement.")
+      .def(
+          "cost", [](Problem& p) { return RaisingPython([&] { return p.Cost(); }); },
+          "½ Σ ρ(‖rᵢ‖²) at the current values.")
+      .def(
+          "residual",
+          [](Problem& p, int id) { return RaisingPython([&] { return p.Residual(id); }); },
+          py::arg("measurement_id"), "Whitened residual of one measurement.")
       .def(
           "covariance",
           [](Problem& p, int id) { return RaisingPython([&] { return p.Covariance(id); }); },

@@ -23,7 +23,10 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 
 PythonManifold::PythonManifold(int ambient, int tangent, py::object plus, py::object minus,
                                std::string name)
-    : a_(ambient), t_(tangent), plus_(std::move(plus)), minus_(std::move(minus)),
+    : a_(ambient),
+      t_(tangent),
+      plus_(std::move(plus)),
+      minus_(std::move(minus)),
       name_(std::move(name)) {}
 
 PythonManifold::~PythonManifold() {
@@ -111,8 +114,8 @@ bool PythonManifold::Call(const py::object& f, const char* op, const double* u, 
     }
     const double* d = a.data();
     if (!std::all_of(d, d + nout, [](double z) { return std::isfinite(z); })) {
-      throw py::value_error("the " + name_ + " manifold's " + op +
-                            " returned non-finite numbers " + std::string(py::repr(r)));
+      throw py::value_error("the " + name_ + " manifold's " + op + " returned non-finite numbers " +
+                            std::string(py::repr(r)));
     }
     std::copy(d, d + nout, out);
     return true;
@@ -135,8 +138,8 @@ void RegisterPythonManifold(py::module_& m) {
         if (tangent > ambient) {
           throw py::value_error("a manifold's tangent size cannot exceed its ambient size");
         }
-        return ManifoldHandle{
-            std::make_shared<PythonManifold>(ambient, tangent, plus, minus, name), name};
+        return ManifoldHandle{std::make_shared<PythonManifold>(ambient, tangent, plus, minus, name),
+                              name};
       },
       py::arg("ambient_size"), py::arg("tangent_size"), py::arg("plus"), py::arg("minus"),
       py::arg("name") = "Python",

@@ -95,7 +95,8 @@ class PyResidualCache final : public ResidualCache {
   void Check(const Array& a, std::vector<py::ssize_t> shape, const char* what) const {
     bool good = a && a.ndim() == static_cast<py::ssize_t>(shape.size());
     for (size_t i = 0; good && i < shape.size(); ++i) good = a.shape(i) == shape[i];
-    if (!good) throw py::value_error(What() + ": prepare() returned " + what + " of the wrong shape");
+    if (!good)
+      throw py::value_error(What() + ": prepare() returned " + what + " of the wrong shape");
   }
 
   py::object prepare_;
@@ -133,9 +134,8 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
       .def(
           "add_residual_cache",
           [](Problem& p, std::shared_ptr<PyResidualCache> cache) {
-            p.AddEvaluationHook([cache](bool jacobians, bool new_point) {
-              cache->Prepare(jacobians, new_point);
-            });
+            p.AddEvaluationHook(
+                [cache](bool jacobians, bool new_point) { cache->Prepare(jacobians, new_point); });
           },
           py::arg("cache"), "Registers a group so that it is evaluated before each solver step.")
       .def(
@@ -143,7 +143,8 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
           [](Problem& p, std::shared_ptr<PyResidualCache> cache, const std::vector<int>& ids,
              const LossHandle* loss, const std::string& name) {
             const std::string what = "measurement '" + name + "'";
-            if (ids.empty()) throw py::value_error(what + ": depends on no variable (ids is empty)");
+            if (ids.empty())
+              throw py::value_error(what + ": depends on no variable (ids is empty)");
             if (ids.size() != cache->tangent_sizes().size()) {
               throw py::value_error(what + ": wrong number of variables");
             }
@@ -157,8 +158,8 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
               ms.push_back(&mf);
             }
             const int index = cache->Add();
-            auto cost = std::make_shared<CachedCostFunction>(cache, index, cache->residual_size(),
-                                                             ms);
+            auto cost =
+                std::make_shared<CachedCostFunction>(cache, index, cache->residual_size(), ms);
             return p.AddMeasurement(cost, ids, loss ? loss->loss : nullptr, name);
           },
           py::arg("cache"), py::arg("ids"), py::arg("loss") = nullptr, py::arg("name") = "")

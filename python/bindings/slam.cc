@@ -22,10 +22,14 @@ using slam::PoseGraph;
 
 const char* KindName(io::VertexKind k) {
   switch (k) {
-    case io::VertexKind::kSE2: return "SE2";
-    case io::VertexKind::kSE3: return "SE3";
-    case io::VertexKind::kPoint2: return "XY";
-    case io::VertexKind::kPoint3: return "XYZ";
+    case io::VertexKind::kSE2:
+      return "SE2";
+    case io::VertexKind::kSE3:
+      return "SE3";
+    case io::VertexKind::kPoint2:
+      return "XY";
+    case io::VertexKind::kPoint3:
+      return "XYZ";
   }
   return "?";
 }
@@ -157,8 +161,8 @@ lifetime tied to this object; ``report`` the LoadReport.
              return pg;
            }),
            py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
-           py::arg("robust_width") = 1.0, py::arg("init") = "file",
-           py::arg("skip_unknown") = false, py::arg("repair_information") = false,
+           py::arg("robust_width") = 1.0, py::arg("init") = "file", py::arg("skip_unknown") = false,
+           py::arg("repair_information") = false,
            "Reads a file and builds the problem (raises boxplus.ParseError naming file:line).")
       .def_property_readonly("report", &PoseGraph::load_report,
                              py::return_value_policy::reference_internal,
@@ -167,12 +171,13 @@ lifetime tied to this object; ``report`` the LoadReport.
                              py::return_value_policy::reference_internal,
                              "The boxplus.Problem (owned by this graph).")
       .def_property_readonly("dimension", [](PoseGraph& pg) { return pg.graph().dimension; })
-      .def_property_readonly("num_edges",
-                             [](PoseGraph& pg) { return static_cast<int>(pg.graph().edges.size()); })
+      .def_property_readonly(
+          "num_edges", [](PoseGraph& pg) { return static_cast<int>(pg.graph().edges.size()); })
       .def_property_readonly("vertex_ids", &PoseGraph::vertex_ids)
       .def_property_readonly("gauge_vertex", &PoseGraph::gauge_vertex)
-      .def_property_readonly("convention",
-                             [](PoseGraph& pg) { return std::string(ToString(pg.options().convention)); })
+      .def_property_readonly(
+          "convention",
+          [](PoseGraph& pg) { return std::string(ToString(pg.options().convention)); })
       .def("variable", &PoseGraph::variable, py::arg("vertex_id"),
            "Variable id (in ``problem``) of a vertex id.")
       .def(
@@ -222,18 +227,20 @@ completely first: one that raises leaves the graph unchanged.
           py::arg("convention") = "",
           "Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log' or 'sesync'; "
           "default: the graph's convention).")
-      .def("poses",
-           [](PoseGraph& pg) {
-             return Stack(pg, pg.graph().dimension == 3 ? io::VertexKind::kSE3
-                                                       : io::VertexKind::kSE2);
-           },
-           "Current pose estimates, one ambient row per pose vertex (file order).")
-      .def("landmarks",
-           [](PoseGraph& pg) {
-             return Stack(pg, pg.graph().dimension == 3 ? io::VertexKind::kPoint3
-                                                       : io::VertexKind::kPoint2);
-           },
-           "Current landmark positions, one row per point vertex (file order).")
+      .def(
+          "poses",
+          [](PoseGraph& pg) {
+            return Stack(pg,
+                         pg.graph().dimension == 3 ? io::VertexKind::kSE3 : io::VertexKind::kSE2);
+          },
+          "Current pose estimates, one ambient row per pose vertex (file order).")
+      .def(
+          "landmarks",
+          [](PoseGraph& pg) {
+            return Stack(
+                pg, pg.graph().dimension == 3 ? io::VertexKind::kPoint3 : io::VertexKind::kPoint2);
+          },
+          "Current landmark positions, one row per point vertex (file order).")
       .def("write_back", &PoseGraph::WriteBack)
       .def("save", &PoseGraph::Save, py::arg("path"),
            "Writes the graph with the current values (file's ids, order and tags).")

@@ -34,8 +34,8 @@ std::string TypeName(py::handle v) { return py::str(py::type::of(v).attr("__name
 template <class M>
 M CastField(py::handle v, const std::string& owner, const std::string& name) {
   // bool is an int in Python: refuse it for numbers, and numbers for bools.
-  const bool is_bool = py::isinstance<py::bool_>(v) ||
-                       TypeName(v) == "bool_" || TypeName(v) == "bool";
+  const bool is_bool =
+      py::isinstance<py::bool_>(v) || TypeName(v) == "bool_" || TypeName(v) == "bool";
   bool ok = true;
   if constexpr (std::is_same_v<M, bool>) {
     ok = is_bool;
@@ -52,8 +52,8 @@ M CastField(py::handle v, const std::string& owner, const std::string& name) {
                          : std::is_same_v<M, int>    ? "an int (32-bit)"
                          : std::is_same_v<M, double> ? "a float"
                                                      : "a str";
-  throw py::type_error(owner + "." + name + " must be " + expected + ", got " + TypeName(v) +
-                       " " + std::string(py::repr(v)).substr(0, 80));
+  throw py::type_error(owner + "." + name + " must be " + expected + ", got " + TypeName(v) + " " +
+                       std::string(py::repr(v)).substr(0, 80));
 }
 
 template <class T, class M>
@@ -120,20 +120,19 @@ void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<
               .c_str());
   for (const auto& f : *table) {
     if (writable) {
-      cls.def_property(
-          f.name.c_str(), f.get,
-          [f, validate](T& t, py::handle v) {
-            T candidate = t;
-            f.set(candidate, v);
-            if (validate) validate(candidate);
-            t = candidate;
-          });
+      cls.def_property(f.name.c_str(), f.get, [f, validate](T& t, py::handle v) {
+        T candidate = t;
+        f.set(candidate, v);
+        if (validate) validate(candidate);
+        t = candidate;
+      });
     } else {
       cls.def_property_readonly(f.name.c_str(), f.get);
     }
   }
-  cls.def("todict", [table](const T& t) { return ToDict(t, *table); },
-          "The fields as a dict (keyword arguments of the constructor).");
+  cls.def(
+      "todict", [table](const T& t) { return ToDict(t, *table); },
+      "The fields as a dict (keyword arguments of the constructor).");
   cls.def("__repr__", [table, owner](const T& t) {
     std::string s = owner + "(";
     bool first = true;
@@ -153,7 +152,8 @@ void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<
   });
   cls.attr("__hash__") = py::none();
   cls.def("__copy__", [](const T& t) { return T(t); });
-  cls.def("__deepcopy__", [](const T& t, py::dict) { return T(t); }, py::arg("memo"));
+  cls.def(
+      "__deepcopy__", [](const T& t, py::dict) { return T(t); }, py::arg("memo"));
   cls.def(py::pickle([table](const T& t) { return ToDict(t, *table); },
                      [table, owner](const py::dict& d) {
                        T t;

@@ -40,8 +40,8 @@ Eigen::VectorXd AsVector(const py::handle& obj, Eigen::Index n, const char* what
 
 // p of shape (d,) → (d,); (N, d) → (N, d), each row mapped by f.
 template <int D, class F>
-py::array_t<double> MapPoints(const py::array_t<double, py::array::c_style | py::array::forcecast>& p,
-                              F f, const char* who) {
+py::array_t<double> MapPoints(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& p, F f, const char* who) {
   if (p.ndim() == 1 && p.shape(0) == D) {
     Eigen::Matrix<double, D, 1> v(p.data());
     const Eigen::Matrix<double, D, 1> r = f(v);
@@ -76,14 +76,14 @@ std::string Fmt(const Eigen::VectorXd& v) {
 // ⊞, ⊟, dof, ambient, pickling and the manifold handle, shared by all kinds.
 template <class T, class Cls>
 void BindCommon(Cls& cls, const char* kind) {
-  cls.def_property_readonly_static("dof", [](py::object) { return T::kDof; },
-                                   "Tangent dimension (degrees of freedom).")
+  cls.def_property_readonly_static(
+         "dof", [](py::object) { return T::kDof; }, "Tangent dimension (degrees of freedom).")
       .def("__len__", [](const T&) { return T::kDof; })
       .def(
           "__add__",
           [kind](const T& x, const py::object& delta) {
-            const Eigen::VectorXd d = AsVector(delta, T::kDof,
-                                               (std::string(kind) + " ⊞ δ").c_str());
+            const Eigen::VectorXd d =
+                AsVector(delta, T::kDof, (std::string(kind) + " ⊞ δ").c_str());
             return x.boxplus(typename T::Tangent(d));
           },
           py::arg("delta"))
@@ -92,8 +92,8 @@ void BindCommon(Cls& cls, const char* kind) {
           py::arg("x"))
       .def("__sub__",
            [kind](const T&, const py::object& other) -> Eigen::VectorXd {
-             throw py::type_error(std::string(kind) + " - x: x must be a " + kind +
-                                  ", got " + std::string(py::str(py::type::of(other).attr("__name__"))));
+             throw py::type_error(std::string(kind) + " - x: x must be a " + kind + ", got " +
+                                  std::string(py::str(py::type::of(other).attr("__name__"))));
            })
       .def_property_readonly(
           "ambient", [](const T& x) { return Eigen::VectorXd(x.ambient()); },
@@ -110,11 +110,14 @@ void BindCommon(Cls& cls, const char* kind) {
           py::arg("a"))
       .def_static(
           "manifold",
-          [kind]() { return ManifoldHandle{MakeManifold(kind), kind}; },
+          [kind]() {
+            return ManifoldHandle{MakeManifold(kind), kind};
+          },
           "The manifold (⊞/⊟ for the solver) of this kind.")
       .def("copy", [](const T& x) { return T(x); })
       .def("__copy__", [](const T& x) { return T(x); })
-      .def("__deepcopy__", [](const T& x, py::dict) { return T(x); }, py::arg("memo"))
+      .def(
+          "__deepcopy__", [](const T& x, py::dict) { return T(x); }, py::arg("memo"))
       .def(py::pickle([](const T& x) { return py::make_tuple(Eigen::VectorXd(x.ambient())); },
                       [](const py::tuple& t) {
                         const Eigen::VectorXd a = t[0].cast<Eigen::VectorXd>();
@@ -139,9 +142,11 @@ x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
       .def_property_readonly("R", &SO2::matrix, "2×2 rotation matrix.")
       .def("inverse", &SO2::inverse)
       .def("__mul__", [](const SO2& a, const SO2& b) { return a * b; })
-      .def("__mul__", [](const SO2& a, const Mat& p) {
-        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(a * v); }, "SO2 * p");
-      })
+      .def("__mul__",
+           [](const SO2& a, const Mat& p) {
+             return MapPoints<2>(
+                 p, [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(a * v); }, "SO2 * p");
+           })
       .def("__repr__", [](const SO2& a) { return "SO2(phi=" + std::to_string(a.angle()) + ")"; });
   so2.attr("__matmul__") = so2.attr("__mul__");
   BindCommon<SO2>(so2, "SO2");
@@ -170,9 +175,11 @@ or SO3.exp(rotation_vector).
       .def_property_readonly("quat", &SO3::quat, "Unit quaternion [x, y, z, w].")
       .def("inverse", &SO3::inverse)
       .def("__mul__", [](const SO3& a, const SO3& b) { return a * b; })
-      .def("__mul__", [](const SO3& a, const Mat& p) {
-        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(a * v); }, "SO3 * p");
-      })
+      .def("__mul__",
+           [](const SO3& a, const Mat& p) {
+             return MapPoints<3>(
+                 p, [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(a * v); }, "SO3 * p");
+           })
       .def("__repr__", [](const SO3& a) { return "SO3(quat=" + Fmt(a.quat()) + ")"; });
   so3.attr("__matmul__") = so3.attr("__mul__");
   BindCommon<SO3>(so3, "SO3");
@@ -192,24 +199,37 @@ Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
       .def_static(
           "exp", [](const py::object& d) { return SE2::Exp(AsVector(d, 3, "SE2.exp")); },
           py::arg("delta"), "identity ⊞ [x, y, φ].")
-      .def("log", [](const SE2& x) { return Eigen::VectorXd(x.Log()); }, "x ⊟ identity.")
+      .def(
+          "log", [](const SE2& x) { return Eigen::VectorXd(x.Log()); }, "x ⊟ identity.")
       .def_property_readonly("pos", &SE2::pos)
       .def_property_readonly("phi", &SE2::angle)
       .def_property_readonly("rot", &SE2::rotation)
       .def_property_readonly("R", [](const SE2& x) { return x.rotation().matrix(); })
       .def("transform", &SE2::transform, "3×3 homogeneous matrix, local → parent.")
-      .def("fromlocal", [](const SE2& x, const Mat& p) {
-        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return x.fromlocal(v); }, "fromlocal");
-      }, py::arg("v"), "R v + p: local → parent coordinates.")
-      .def("tolocal", [](const SE2& x, const Mat& p) {
-        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return x.tolocal(v); }, "tolocal");
-      }, py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
+      .def(
+          "fromlocal",
+          [](const SE2& x, const Mat& p) {
+            return MapPoints<2>(
+                p, [&](const Eigen::Vector2d& v) { return x.fromlocal(v); }, "fromlocal");
+          },
+          py::arg("v"), "R v + p: local → parent coordinates.")
+      .def(
+          "tolocal",
+          [](const SE2& x, const Mat& p) {
+            return MapPoints<2>(
+                p, [&](const Eigen::Vector2d& v) { return x.tolocal(v); }, "tolocal");
+          },
+          py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
       .def("inverse", &SE2::inverse)
       .def("__mul__", [](const SE2& a, const SE2& b) { return a * b; })
-      .def("__mul__", [](const SE2& a, const Mat& p) {
-        return MapPoints<2>(p, [&](const Eigen::Vector2d& v) { return a.fromlocal(v); }, "SE2 * p");
-      })
-      .def("__repr__", [](const SE2& a) { return "SE2(pos=" + Fmt(a.pos()) + ", phi=" + std::to_string(a.angle()) + ")"; });
+      .def("__mul__",
+           [](const SE2& a, const Mat& p) {
+             return MapPoints<2>(
+                 p, [&](const Eigen::Vector2d& v) { return a.fromlocal(v); }, "SE2 * p");
+           })
+      .def("__repr__", [](const SE2& a) {
+        return "SE2(pos=" + Fmt(a.pos()) + ", phi=" + std::to_string(a.angle()) + ")";
+      });
   se2.attr("__matmul__") = se2.attr("__mul__");
   BindCommon<SE2>(se2, "SE2");
 
@@ -225,14 +245,15 @@ SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
              return SE3(SO3::FromMatrix(R), t);
            }),
            py::arg("R"), py::arg("t"))
-      .def(py::init([](const SO3& R, const Eigen::Vector3d& t) { return SE3(R, t); }),
-           py::arg("R"), py::arg("t"))
+      .def(py::init([](const SO3& R, const Eigen::Vector3d& t) { return SE3(R, t); }), py::arg("R"),
+           py::arg("t"))
       .def_static("from_matrix", &SE3::FromMatrix, py::arg("T"))
       .def_static(
           "exp", [](const py::object& d) { return SE3::Exp(AsVector(d, 6, "SE3.exp")); },
           py::arg("delta"), "identity ⊞ [p, w] = (p, exp(w)) (the compound's chart).")
-      .def("log", [](const SE3& x) { return Eigen::VectorXd(x.Log()); },
-           "x ⊟ identity = [p, log R].")
+      .def(
+          "log", [](const SE3& x) { return Eigen::VectorXd(x.Log()); },
+          "x ⊟ identity = [p, log R].")
       .def_property_readonly("pos", &SE3::pos, "Position (translation) p.")
       .def_property_readonly("t", &SE3::pos, "Same as pos.")
       .def_property_readonly("rot", &SE3::rotation, "Orientation as an SO3.")
@@ -241,17 +262,27 @@ SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
       .def_property_readonly("quat", [](const SE3& x) { return x.rotation().quat(); })
       .def("transform", &SE3::transform, "4×4 homogeneous matrix, local → parent.")
       .def("matrix", &SE3::transform, "Same as transform().")
-      .def("fromlocal", [](const SE3& x, const Mat& p) {
-        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return x.fromlocal(v); }, "fromlocal");
-      }, py::arg("v"), "R v + p: local → parent coordinates.")
-      .def("tolocal", [](const SE3& x, const Mat& p) {
-        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return x.tolocal(v); }, "tolocal");
-      }, py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
+      .def(
+          "fromlocal",
+          [](const SE3& x, const Mat& p) {
+            return MapPoints<3>(
+                p, [&](const Eigen::Vector3d& v) { return x.fromlocal(v); }, "fromlocal");
+          },
+          py::arg("v"), "R v + p: local → parent coordinates.")
+      .def(
+          "tolocal",
+          [](const SE3& x, const Mat& p) {
+            return MapPoints<3>(
+                p, [&](const Eigen::Vector3d& v) { return x.tolocal(v); }, "tolocal");
+          },
+          py::arg("v"), "Rᵀ(v − p): parent → local coordinates.")
       .def("inverse", &SE3::inverse)
       .def("__mul__", [](const SE3& a, const SE3& b) { return a * b; })
-      .def("__mul__", [](const SE3& a, const Mat& p) {
-        return MapPoints<3>(p, [&](const Eigen::Vector3d& v) { return a.fromlocal(v); }, "SE3 * p");
-      })
+      .def("__mul__",
+           [](const SE3& a, const Mat& p) {
+             return MapPoints<3>(
+                 p, [&](const Eigen::Vector3d& v) { return a.fromlocal(v); }, "SE3 * p");
+           })
       .def("__repr__", [](const SE3& a) {
         return "SE3(pos=" + Fmt(a.pos()) + ", quat=" + Fmt(a.rotation().quat()) + ")";
       });
@@ -277,40 +308,44 @@ orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
 A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
 )doc");
   rn.def(py::init([](const py::object& arg) {
-          if (py::isinstance<py::int_>(arg)) {
-            int overflow = 0;
-            const long long n = PyLong_AsLongLongAndOverflow(arg.ptr(), &overflow);
-            if (n < 1 && overflow == 0) throw py::value_error("Rn(n): n must be at least 1");
-            if (overflow != 0 || n > std::numeric_limits<int>::max()) {
-              throw py::value_error("Rn(n): n = " + std::string(py::str(arg)) +
-                                    " is too large (at most 2**31 - 1)");
-            }
-            return Rn(static_cast<int>(n));
-          }
-          py::array_t<double, py::array::c_style | py::array::forcecast> a =
-              py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arg);
-          if (!a || a.ndim() > 1 || a.size() < 1) {
-            throw py::value_error("Rn(v): v must be a non-empty vector or an int n");
-          }
-          return Rn(Eigen::Map<const Eigen::VectorXd>(a.data(), a.size()));
-        }),
-        py::arg("v"))
+           if (py::isinstance<py::int_>(arg)) {
+             int overflow = 0;
+             const long long n = PyLong_AsLongLongAndOverflow(arg.ptr(), &overflow);
+             if (n < 1 && overflow == 0) throw py::value_error("Rn(n): n must be at least 1");
+             if (overflow != 0 || n > std::numeric_limits<int>::max()) {
+               throw py::value_error("Rn(n): n = " + std::string(py::str(arg)) +
+                                     " is too large (at most 2**31 - 1)");
+             }
+             return Rn(static_cast<int>(n));
+           }
+           py::array_t<double, py::array::c_style | py::array::forcecast> a =
+               py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(arg);
+           if (!a || a.ndim() > 1 || a.size() < 1) {
+             throw py::value_error("Rn(v): v must be a non-empty vector or an int n");
+           }
+           return Rn(Eigen::Map<const Eigen::VectorXd>(a.data(), a.size()));
+         }),
+         py::arg("v"))
       .def_property_readonly("vec", &Rn::vec)
       .def_property_readonly("dof", &Rn::dof)
       .def_property_readonly("ambient", &Rn::vec)
       .def("__len__", &Rn::dof)
-      .def("__add__", [](const Rn& x, const py::object& d) {
-        return x.boxplus(AsVector(d, x.dof(), "Rn ⊞ δ"));
-      })
+      .def("__add__", [](const Rn& x,
+                         const py::object& d) { return x.boxplus(AsVector(d, x.dof(), "Rn ⊞ δ")); })
       .def("__sub__", [](const Rn& y, const Rn& x) { return y.boxminus(x); })
-      .def("__sub__", [](const Rn&, const py::object& other) -> Eigen::VectorXd {
-        throw py::type_error("Rn - x: x must be an Rn, got " +
-                             std::string(py::str(py::type::of(other).attr("__name__"))));
-      })
-      .def("manifold", [](const Rn& x) { return ManifoldHandle{MakeManifold("Rn", x.dof()), "Rn"}; })
+      .def("__sub__",
+           [](const Rn&, const py::object& other) -> Eigen::VectorXd {
+             throw py::type_error("Rn - x: x must be an Rn, got " +
+                                  std::string(py::str(py::type::of(other).attr("__name__"))));
+           })
+      .def("manifold",
+           [](const Rn& x) {
+             return ManifoldHandle{MakeManifold("Rn", x.dof()), "Rn"};
+           })
       .def("copy", [](const Rn& x) { return Rn(x); })
       .def("__copy__", [](const Rn& x) { return Rn(x); })
-      .def("__deepcopy__", [](const Rn& x, py::dict) { return Rn(x); }, py::arg("memo"))
+      .def(
+          "__deepcopy__", [](const Rn& x, py::dict) { return Rn(x); }, py::arg("memo"))
       .def(py::pickle([](const Rn& x) { return py::make_tuple(x.vec()); },
                       [](const py::tuple& t) { return Rn(t[0].cast<Eigen::VectorXd>()); }))
       .def("__repr__", [](const Rn& x) { return "Rn(" + Fmt(x.vec()) + ")"; });

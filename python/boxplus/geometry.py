@@ -6,7 +6,7 @@ Frames follow the library's scheme: ``b_from_a`` maps a-coordinates to b,
 ``p_in_b = b_from_a.fromlocal(p_in_a) = R p_in_a + t``; poses are SE3 values,
 SE(3) = R³ × SO(3), tangent order [translation, rotation].
 
-The camera models are those of the C++ factors (``factors/pinhole.h``):
+The camera models are those of the C++ factors (``factors/camera/models.h``):
 ``simple_radial`` [f, cx, cy, k1], ``pinhole`` [fx, fy, cx, cy], ``radial1``
 [fx, fy, cx, cy, k1], ``radial2`` [.., k1, k2] and ``opencv5`` [fx, fy, cx, cy,
 k1, k2, p1, p2, k3]; every one is OpenCV's model with the missing coefficients

@@ -279,12 +279,12 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
 TEST(PointFactor, Jacobians) {
   std::mt19937 rng(6);
   const Eigen::Matrix3d W = Eigen::Vector3d(1, 2, 3).asDiagonal();
-  ExpectJacobiansMatch(*MakePointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W), {0.3, -0.2, 2.0}),
-                       {{RandomPose(rng), true}, {RandomPose(rng), true}});
-  ExpectJacobiansMatch(*MakeLandmarkPointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W)),
-                       {{RandomPose(rng), true},
-                        {RandomPose(rng), true},
-                        {Eigen::Vector3d(0.3, -0.2, 2.0), false}});
+  ExpectJacobiansMatch(
+      *MakePointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W), {0.3, -0.2, 2.0}),
+      {{RandomPose(rng), true}, {RandomPose(rng), true}});
+  ExpectJacobiansMatch(
+      *MakeLandmarkPointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W)),
+      {{RandomPose(rng), true}, {RandomPose(rng), true}, {Eigen::Vector3d(0.3, -0.2, 2.0), false}});
 }
 
 TEST(DisparityFactor, JacobiansAndValue) {
@@ -364,12 +364,17 @@ TEST(SensorFactors, NoiseInAllFormsGivesTheSameCost) {
          return MakeDHMarkerFactor("opencv5", {300, 200}, n, q, base_from_chain, identity);
        },
        dh_marker},
-      {"gravity", 3,
-       [&](const NoiseModel& n) { return MakeGravityFactor("scale_bias", {0.1, -0.2, 9.7}, n,
-                                                           {0, 0, -9.81}); },
+      {"gravity",
+       3,
+       [&](const NoiseModel& n) {
+         return MakeGravityFactor("scale_bias", {0.1, -0.2, 9.7}, n, {0, 0, -9.81});
+       },
        {{RandomPose(rng), true}, {RandomPose(rng), true}, {accel, false}}},
-      {"disparity", 1,
-       [&](const NoiseModel& n) { return MakeDisparityFactor(800.0, n, {0.3, 0.4, 0.0}); },
+      {"disparity",
+       1,
+       [&](const NoiseModel& n) {
+         return MakeDisparityFactor(800.0, n, {0.3, 0.4, 0.0});
+       },
        {{world_from_rig, true}, {cam_from_rig, true}, {ab, false}}},
   };
   std::normal_distribution<double> g;

@@ -119,7 +119,8 @@ TEST(G2oOptions, SkipUnknownTagsCountsThem) {
   EXPECT_EQ(g.edges.size(), 1u);
   EXPECT_EQ(rep.unknown_skipped, 1);
   EXPECT_EQ(rep.unknown_tags.at("EDGE_SE2_FOO"), 1);
-  EXPECT_THAT(rep.Warnings("f"), HasSubstr("skipped 1 line(s) with unknown tags (EDGE_SE2_FOO ×1)"));
+  EXPECT_THAT(rep.Warnings("f"),
+              HasSubstr("skipped 1 line(s) with unknown tags (EDGE_SE2_FOO ×1)"));
 }
 
 TEST(G2oOptions, RepairInformationCountsAndFixes) {

@@ -104,9 +104,8 @@ TEST(GaussNewtonLineSearch, RobustLossSameMinimumAsLevenbergMarquardt) {
     const double x0[2] = {3.0, -1.0};
     const int x = p.AddVariable(MakeManifold("Rn", 2), x0);
     for (double z : data) {
-      p.AddMeasurement(
-          std::make_shared<ceres::AutoDiffCostFunction<Offset, 2, 2>>(new Offset{z}), {x},
-          std::make_shared<ceres::CauchyLoss>(0.5));
+      p.AddMeasurement(std::make_shared<ceres::AutoDiffCostFunction<Offset, 2, 2>>(new Offset{z}),
+                       {x}, std::make_shared<ceres::CauchyLoss>(0.5));
     }
     SolverOptions o = k == 0 ? LineSearch() : SolverOptions();
     o.function_tolerance = o.gradient_tolerance = o.parameter_tolerance = 1e-15;
@@ -128,8 +127,7 @@ TEST(GaussNewtonLineSearch, SingularNormalEquationsAreRegularised) {
   const int xa = p.AddVariable(MakeManifold("SE2"), a.data(), "a");
   const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
   const Eigen::Vector3d z(1.0, 0.5, 0.2);
-  p.AddMeasurement(MakeRelativePose2D(z, NoiseModel::Unit(3), PoseErrorConvention::kG2o),
-                   {xa, xb});
+  p.AddMeasurement(MakeRelativePose2D(z, NoiseModel::Unit(3), PoseErrorConvention::kG2o), {xa, xb});
   const SolveSummary s = p.Solve(LineSearch());
   ASSERT_TRUE(s.usable) << s.report;
   EXPECT_LT(p.Cost(), 1e-12);
@@ -137,14 +135,15 @@ TEST(GaussNewtonLineSearch, SingularNormalEquationsAreRegularised) {
 
 TEST(GaussNewtonLineSearch, FixedAndUnusedVariablesDoNotMove) {
   Problem p;
-  const SE2 a(Eigen::Vector2d(1, 1), 0.5), b(Eigen::Vector2d(2, 0), 0.1), c(Eigen::Vector2d(7, 7), 2.0);
+  const SE2 a(Eigen::Vector2d(1, 1), 0.5), b(Eigen::Vector2d(2, 0), 0.1),
+      c(Eigen::Vector2d(7, 7), 2.0);
   const int xa = p.AddVariable(MakeManifold("SE2"), a.data(), "a");
   const int xb = p.AddVariable(MakeManifold("SE2"), b.data(), "b");
   const int xc = p.AddVariable(MakeManifold("SE2"), c.data(), "unused");
   p.SetFixed(xa);
-  p.AddMeasurement(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), NoiseModel::Unit(3),
-                                      PoseErrorConvention::kG2o),
-                   {xa, xb});
+  p.AddMeasurement(
+      MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), NoiseModel::Unit(3), PoseErrorConvention::kG2o),
+      {xa, xb});
   const SolveSummary s = p.Solve(LineSearch());
   ASSERT_TRUE(s.usable) << s.report;
   EXPECT_EQ(SE2::FromAmbient(p.value(xa)).boxminus(a).norm(), 0.0);

@@ -43,8 +43,8 @@ struct Traits<SO2Ops> {
     return Vec::Constant(1, std::uniform_real_distribution<double>(-kPi, kPi)(rng));
   }
   static std::vector<Vec> Special() {
-    return {Vec::Constant(1, 0.0), Vec::Constant(1, kPiMinus),
-            Vec::Constant(1, -kPi), Vec::Constant(1, 1e-9)};
+    return {Vec::Constant(1, 0.0), Vec::Constant(1, kPiMinus), Vec::Constant(1, -kPi),
+            Vec::Constant(1, 1e-9)};
   }
   static bool Same(const Vec& a, const Vec& b, double tol) {
     return std::abs(WrapAngle(a[0] - b[0])) < tol;
@@ -71,9 +71,7 @@ template <>
 struct Traits<SO3Ops> {
   static Vec Point(std::mt19937& rng) { return RandomQuat(rng); }
   static std::vector<Vec> Special() { return SpecialQuats(); }
-  static bool Same(const Vec& a, const Vec& b, double tol) {
-    return SameQuat(a, b, tol);
-  }
+  static bool Same(const Vec& a, const Vec& b, double tol) { return SameQuat(a, b, tol); }
 };
 
 template <>
@@ -129,12 +127,9 @@ struct Traits<S2Ops> {
       return Vec(r / r.norm());
     };
     // the Householder branch switch (x₀ = 0) and both poles of each branch
-    return {v(1, 0, 0), v(-1, 0, 0), v(0, 1, 0), v(0, 0, -1), v(1e-12, 1, 0),
-            v(-1e-12, 1, 0)};
+    return {v(1, 0, 0), v(-1, 0, 0), v(0, 1, 0), v(0, 0, -1), v(1e-12, 1, 0), v(-1e-12, 1, 0)};
   }
-  static bool Same(const Vec& a, const Vec& b, double tol) {
-    return (a - b).norm() < tol;
-  }
+  static bool Same(const Vec& a, const Vec& b, double tol) { return (a - b).norm() < tol; }
 };
 
 template <>
@@ -232,8 +227,7 @@ TYPED_TEST(ManifoldTest, MinusIsNonExpansive) {
       const Vec d2 = RandomDelta<TypeParam>(this->rng, kPi / 2);
       const double lhs = this->Minus(this->Plus(x, d1), this->Plus(x, d2)).norm();
       EXPECT_LE(lhs, (d1 - d2).norm() + 1e-9)
-          << "x = " << x.transpose() << "\nδ₁ = " << d1.transpose()
-          << "\nδ₂ = " << d2.transpose();
+          << "x = " << x.transpose() << "\nδ₁ = " << d1.transpose() << "\nδ₂ = " << d2.transpose();
     }
   }
 }

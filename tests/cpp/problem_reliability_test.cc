@@ -20,8 +20,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const Method kAllMethods[] = {Method::kLevenbergMarquardt, Method::kDogleg,
-                              Method::kGaussNewton, Method::kGaussNewtonLineSearch};
+const Method kAllMethods[] = {Method::kLevenbergMarquardt, Method::kDogleg, Method::kGaussNewton,
+                              Method::kGaussNewtonLineSearch};
 
 SolverOptions With(Method m) {
   SolverOptions o;
@@ -152,9 +152,9 @@ TEST(ProblemReliability, NonFiniteCostIsAFailureNamingTheMeasurement) {
       Problem p;
       const double start[3] = {1, 2, 3};
       const int x = p.AddVariable(MakeManifold("Rn", 3), start, "p");
-      p.AddMeasurement(PriorFunctor<RnOps<3>>::Create(Eigen::Vector3d::Zero(),
-                                                      Eigen::Matrix3d::Identity()),
-                       {x}, nullptr, "fine");
+      p.AddMeasurement(
+          PriorFunctor<RnOps<3>>::Create(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()), {x},
+          nullptr, "fine");
       p.AddMeasurement(std::make_shared<ConstantCost>(r), {x}, nullptr, "broken");
       const SolveSummary s = p.Solve(With(method));
       EXPECT_EQ(s.termination, "failure") << MethodName(method) << " " << r;
@@ -228,8 +228,8 @@ TEST(ProblemReliability, LargeRnVariablesCostLinearMemory) {
 // Rⁿ solved without its Plus Jacobian reaches Σ xᵢ = c (rank 1: not by
 // Ceres' undamped Gauss–Newton, whose normal equations are singular).
 TEST(ProblemReliability, EuclideanBlocksSolveWithoutPlusJacobian) {
-  for (Method method : {Method::kLevenbergMarquardt, Method::kDogleg,
-                        Method::kGaussNewtonLineSearch}) {
+  for (Method method :
+       {Method::kLevenbergMarquardt, Method::kDogleg, Method::kGaussNewtonLineSearch}) {
     const int n = 50;
     Problem p;
     std::vector<double> x(n, 0.0);
@@ -245,34 +245,46 @@ TEST(ProblemReliability, EuclideanBlocksSolveWithoutPlusJacobian) {
 // Item 14: quaternions and directions are validated and normalised.
 TEST(ProblemReliability, UnitPartsAreValidatedAndNormalised) {
   Problem p;
-  ExpectError([&] {
-    const double q[4] = {0, 0, 0, 0};
-    p.AddVariable(MakeManifold("SO3"), q, "R");
-  }, "variable 'R': the quaternion [x, y, z, w] is zero");
-  ExpectError([&] {
-    const double q[4] = {0, 0, 0, 2};
-    p.AddVariable(MakeManifold("SO3"), q, "R");
-  }, "has norm 2, not 1");
-  ExpectError([&] {
-    // ‖q‖² overflows; the scaled norm does not.
-    const double q[4] = {1e200, 0, 0, 1e200};
-    p.AddVariable(MakeManifold("SO3"), q, "R");
-  }, "has norm 1.41421e+200");
-  ExpectError([&] {
-    const double pose[7] = {1, 2, 3, 0, 0, 0, 0};
-    p.AddVariable(MakeManifold("SE3"), pose, "T");
-  }, "variable 'T': the quaternion [x, y, z, w] (ambient entries 3-6) is zero");
-  ExpectError([&] {
-    const double d[3] = {0, 0, 0};
-    p.AddVariable(MakeManifold("S2"), d, "g");
-  }, "variable 'g': the unit vector is zero");
-  ExpectError([&] {
-    const double v[7] = {1, 2, 3, 0, 0, 0, 3};
-    p.AddVariable(std::make_shared<ProductManifold>(
-                      std::vector<std::shared_ptr<const ceres::Manifold>>{
-                          MakeManifold("Rn", 3), MakeManifold("SO3")}),
-                  v, "compound");
-  }, "variable 'compound', member 1: the quaternion");
+  ExpectError(
+      [&] {
+        const double q[4] = {0, 0, 0, 0};
+        p.AddVariable(MakeManifold("SO3"), q, "R");
+      },
+      "variable 'R': the quaternion [x, y, z, w] is zero");
+  ExpectError(
+      [&] {
+        const double q[4] = {0, 0, 0, 2};
+        p.AddVariable(MakeManifold("SO3"), q, "R");
+      },
+      "has norm 2, not 1");
+  ExpectError(
+      [&] {
+        // ‖q‖² overflows; the scaled norm does not.
+        const double q[4] = {1e200, 0, 0, 1e200};
+        p.AddVariable(MakeManifold("SO3"), q, "R");
+      },
+      "has norm 1.41421e+200");
+  ExpectError(
+      [&] {
+        const double pose[7] = {1, 2, 3, 0, 0, 0, 0};
+        p.AddVariable(MakeManifold("SE3"), pose, "T");
+      },
+      "variable 'T': the quaternion [x, y, z, w] (ambient entries 3-6) is zero");
+  ExpectError(
+      [&] {
+        const double d[3] = {0, 0, 0};
+        p.AddVariable(MakeManifold("S2"), d, "g");
+      },
+      "variable 'g': the unit vector is zero");
+  ExpectError(
+      [&] {
+        const double v[7] = {1, 2, 3, 0, 0, 0, 3};
+        p.AddVariable(
+            std::make_shared<ProductManifold>(std::vector<std::shared_ptr<const ceres::Manifold>>{
+                MakeManifold("Rn", 3), MakeManifold("SO3")}),
+            v, "compound");
+      },
+      "variable 'compound', member 1: the quaternion");
   EXPECT_EQ(p.num_variables(), 0);  // nothing was added
 
   const double nearly[4] = {0, 0, 0, 1 + 1e-5};

@@ -34,9 +34,7 @@ TEST(Problem, AveragingSymmetricRotationsGivesTheCentre) {
     const Eigen::Vector3d d = RandomVec(rng, 0.3);
     for (double s : {1.0, -1.0}) {
       const SO3 z = truth.boxplus(s * d);
-      p.AddMeasurement(PriorFunctor<SO3Ops>::Create(z.ambient(),
-                                                    Eigen::Matrix3d::Identity()),
-                       {x});
+      p.AddMeasurement(PriorFunctor<SO3Ops>::Create(z.ambient(), Eigen::Matrix3d::Identity()), {x});
     }
   }
   const SolveSummary s = p.Solve(Tight());
@@ -66,8 +64,9 @@ TEST(Problem, AveragingPosesMatchesClosedForm) {
     ws.push_back(1.0 / (sigma * sigma));
     weighted_pos += ws.back() * zs.back().pos();
     wsum += ws.back();
-    const Eigen::MatrixXd W = NoiseModel::Covariance(
-        Eigen::MatrixXd::Identity(6, 6) * sigma * sigma, "z").sqrt_information();
+    const Eigen::MatrixXd W =
+        NoiseModel::Covariance(Eigen::MatrixXd::Identity(6, 6) * sigma * sigma, "z")
+            .sqrt_information();
     p.AddMeasurement(PriorFunctor<SE3Ops>::Create(zs.back().ambient(), W), {x});
   }
   const SolveSummary s = p.Solve(Tight());
@@ -83,8 +82,7 @@ TEST(Problem, AveragingPosesMatchesClosedForm) {
   // Covariance of a mean of independent isotropic observations: (Σ wᵢ)⁻¹ I.
   const Eigen::MatrixXd C = p.Covariance(x);
   ASSERT_EQ(C.rows(), 6);
-  EXPECT_LT((C.topLeftCorner<3, 3>() - Eigen::Matrix3d::Identity() / wsum).norm(),
-            1e-9);
+  EXPECT_LT((C.topLeftCorner<3, 3>() - Eigen::Matrix3d::Identity() / wsum).norm(), 1e-9);
   EXPECT_NEAR(C(3, 3), 1.0 / wsum, 1e-2 / wsum);  // rotation: up to curvature
 }
 
@@ -112,8 +110,8 @@ TEST(Problem, BadInputRaisesNamedErrors) {
     EXPECT_NE(std::string(e.what()).find("'gyro'"), std::string::npos) << e.what();
   }
   EXPECT_THROW(p.AddMeasurement(cost, {x, x}), Error);
-  auto wrong = PriorFunctor<SE3Ops>::Create(SE3().ambient(),
-                                            Eigen::Matrix<double, 6, 6>::Identity());
+  auto wrong =
+      PriorFunctor<SE3Ops>::Create(SE3().ambient(), Eigen::Matrix<double, 6, 6>::Identity());
   EXPECT_THROW(p.AddMeasurement(wrong, {x}), Error);
   EXPECT_THROW(p.value(3), IndexError);
   Eigen::MatrixXd bad(2, 2);
@@ -127,9 +125,8 @@ TEST(Problem, IterationCallbackCanStopTheSolve) {
   Problem p;
   const SO3 start;
   const int x = p.AddVariable(MakeManifold("SO3"), start.data());
-  p.AddMeasurement(PriorFunctor<SO3Ops>::Create(
-                       SO3::Exp(Eigen::Vector3d(2.0, 0.5, -0.3)).ambient(),
-                       Eigen::Matrix3d::Identity()),
+  p.AddMeasurement(PriorFunctor<SO3Ops>::Create(SO3::Exp(Eigen::Vector3d(2.0, 0.5, -0.3)).ambient(),
+                                                Eigen::Matrix3d::Identity()),
                    {x});
   SolverOptions o;
   int calls = 0;

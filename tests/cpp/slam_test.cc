@@ -9,10 +9,10 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/factors/pose/bearing_range.h"
-#include "boxplus/loss.h"
 #include "boxplus/factors/pose/pose_point.h"
 #include "boxplus/factors/pose/relative_pose2d.h"
 #include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/loss.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/slam/initialization.h"
 #include "boxplus/slam/pose_graph.h"
@@ -132,8 +132,8 @@ TEST(RelativePose2D, AnalyticJacobiansMatchAutodiff) {
     const Eigen::Matrix3d info = RandomInfo(rng, 3).topLeftCorner<3, 3>();
     Eigen::VectorXd ra, rb;
     std::vector<RowMat> Ja, Jb;
-    Evaluate(*MakeRelativePose2D(z, NoiseModel::Information(info)), {xi.data(), xj.data()}, {se2.get(), se2.get()}, &ra,
-             &Ja);
+    Evaluate(*MakeRelativePose2D(z, NoiseModel::Information(info)), {xi.data(), xj.data()},
+             {se2.get(), se2.get()}, &ra, &Ja);
     Evaluate(*MakeRelativePose2DAutoDiff(z, NoiseModel::Information(info)), {xi.data(), xj.data()},
              {se2.get(), se2.get()}, &rb, &Jb);
     EXPECT_LT((ra - rb).norm(), 1e-10 * (1 + ra.norm()));
@@ -179,10 +179,10 @@ TEST(RelativePose2D, LogConventionInvertsTheSE2Exponential) {
     const Eigen::Vector2d u(0.7, -1.3);
     // V(θ) = [[s, −(1−c)], [1−c, s]] / θ
     const double s = std::sin(th), c = std::cos(th);
-    const Eigen::Vector2d t =
-        std::abs(th) < 1e-8 ? u
-                            : Eigen::Vector2d((s * u.x() - (1 - c) * u.y()) / th,
-                                              ((1 - c) * u.x() + s * u.y()) / th);
+    const Eigen::Vector2d t = std::abs(th) < 1e-8
+                                  ? u
+                                  : Eigen::Vector2d((s * u.x() - (1 - c) * u.y()) / th,
+                                                    ((1 - c) * u.x() + s * u.y()) / th);
     const double xi[3] = {0, 0, 0}, xj[3] = {t.x(), t.y(), th}, z[3] = {0, 0, 0};
     double e[3];
     RelativePose2DError(xi, xj, z, e, PoseErrorConvention::kLog);

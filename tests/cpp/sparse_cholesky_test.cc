@@ -4,8 +4,8 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 
 #include "../../cpp/src/solver/sparse_cholesky.h"
 
@@ -55,8 +55,8 @@ TEST(SparseCholesky, FillMeasureOfTridiagonalAndDenseFactors) {
   // Every column but the last has one entry below the diagonal.
   EXPECT_DOUBLE_EQ(FillMeasure(CholeskyColumnCounts(UpperOf(tri))), 1.0);
   // A dense factor: c = n−1, ..., 0, Σc²/Σc = (2n − 1)/3.
-  const Eigen::MatrixXd dense = Eigen::MatrixXd::Constant(n, n, 1.0) +
-                                n * Eigen::MatrixXd::Identity(n, n);
+  const Eigen::MatrixXd dense =
+      Eigen::MatrixXd::Constant(n, n, 1.0) + n * Eigen::MatrixXd::Identity(n, n);
   EXPECT_DOUBLE_EQ(FillMeasure(CholeskyColumnCounts(UpperOf(dense))), (2.0 * n - 1) / 3);
   EXPECT_EQ(FillMeasure({}), 0.0);
 

@@ -41,8 +41,9 @@ TEST(SO3, LogAtPiDependsOnTheRotationOnly) {
   const SO3 b = SO3::FromQuaternion(Eigen::Vector4d(-0.0, -0.0, -1, -0.0));
   EXPECT_LT((a.Log() - b.Log()).norm(), 1e-15);
   EXPECT_NEAR(a.Log().norm(), kPi, 1e-15);
-  EXPECT_LT((SO3().boxminus(a) - SO3::FromQuaternion(Eigen::Vector4d(0, 0, 0, -1)).boxminus(a)).norm(),
-            1e-15);
+  EXPECT_LT(
+      (SO3().boxminus(a) - SO3::FromQuaternion(Eigen::Vector4d(0, 0, 0, -1)).boxminus(a)).norm(),
+      1e-15);
 }
 
 TEST(SO3, GroupIdentities) {

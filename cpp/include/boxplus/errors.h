@@ -28,9 +28,7 @@ class IndexError : public Error {
 class ParseError : public Error {
  public:
   ParseError(const std::string& file, int line, const std::string& what)
-      : Error(file + ":" + std::to_string(line) + ": " + what),
-        file_(file),
-        line_(line) {}
+      : Error(file + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
   const std::string& file() const { return file_; }
   int line() const { return line_; }
 
@@ -53,16 +51,16 @@ std::string Concat(const Args&... args) {
 
 // Throws boxplus::Error (or the given subclass) with a message built from the
 // remaining arguments when `cond` is false.
-#define BOXPLUS_CHECK(cond, ...)                                      \
-  do {                                                                \
-    if (!(cond)) {                                                    \
+#define BOXPLUS_CHECK(cond, ...)                                        \
+  do {                                                                  \
+    if (!(cond)) {                                                      \
       throw ::boxplus::Error(::boxplus::internal::Concat(__VA_ARGS__)); \
-    }                                                                 \
+    }                                                                   \
   } while (0)
 
-#define BOXPLUS_CHECK_INDEX(cond, ...)                                     \
-  do {                                                                     \
-    if (!(cond)) {                                                         \
+#define BOXPLUS_CHECK_INDEX(cond, ...)                                       \
+  do {                                                                       \
+    if (!(cond)) {                                                           \
       throw ::boxplus::IndexError(::boxplus::internal::Concat(__VA_ARGS__)); \
-    }                                                                      \
+    }                                                                        \
   } while (0)

@@ -20,7 +20,6 @@ namespace boxplus {
 
 // "Rn" (with size n), "SO2", "SO3", "SE2", "SE3", "S2". Throws on an unknown
 // name. Instances are stateless and may be shared between variables.
-std::shared_ptr<const ceres::Manifold> MakeManifold(const std::string& kind,
-                                                    int n = 0);
+std::shared_ptr<const ceres::Manifold> MakeManifold(const std::string& kind, int n = 0);
 
 }  // namespace boxplus

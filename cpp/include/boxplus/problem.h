@@ -49,7 +49,6 @@ struct JacobianEvaluation {
   std::vector<int> row_offsets;     // first row of each measurement
 };
 
-
 // Called before Ceres evaluates residuals at a new point or needs Jacobians;
 // measurements that evaluate in bulk (vectorised Python functions) compute
 // here and serve the per-measurement Evaluate calls from a cache.
@@ -68,8 +67,8 @@ class Problem {
   // be unit within 10⁻³ and are normalised; zero or far from unit throws.
   // Plain Rⁿ (RnManifold) is passed to Ceres as Euclidean: no n × n Plus
   // Jacobian is stored.
-  int AddVariable(std::shared_ptr<const ceres::Manifold> manifold,
-                  const double* init, const std::string& name = "");
+  int AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const double* init,
+                  const std::string& name = "");
   int num_variables() const { return static_cast<int>(vars_.size()); }
   const std::string& variable_name(int id) const;
   const ceres::Manifold& manifold(int id) const;
@@ -89,12 +88,10 @@ class Problem {
   // NoiseModel means the residual is the error). `loss` may be null (plain
   // least squares). A measurement must depend on at least one variable, each
   // listed once, and its Jacobians must fit Ceres' int-indexed storage.
-  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
-                     const std::vector<int>& var_ids, const NoiseModel& noise,
-                     std::shared_ptr<ceres::LossFunction> loss = nullptr,
+  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
+                     const NoiseModel& noise, std::shared_ptr<ceres::LossFunction> loss = nullptr,
                      const std::string& name = "");
-  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
-                     const std::vector<int>& var_ids,
+  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
                      std::shared_ptr<ceres::LossFunction> loss = nullptr,
                      const std::string& name = "") {
     return AddMeasurement(std::move(cost), var_ids, NoiseModel(), std::move(loss), name);

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -21,28 +21,35 @@ namespace boxplus::io {
 
 int AmbientSize(VertexKind kind) {
   switch (kind) {
-    case VertexKind::kSE2: return 3;
-    case VertexKind::kSE3: return 7;
-    case VertexKind::kPoint2: return 2;
-    case VertexKind::kPoint3: return 3;
+    case VertexKind::kSE2:
+      return 3;
+    case VertexKind::kSE3:
+      return 7;
+    case VertexKind::kPoint2:
+      return 2;
+    case VertexKind::kPoint3:
+      return 3;
   }
   return 0;
 }
 
 int ErrorSize(EdgeKind kind) {
   switch (kind) {
-    case EdgeKind::kSE2: return 3;
-    case EdgeKind::kSE3: return 6;
-    case EdgeKind::kSE2Point2: return 2;
-    case EdgeKind::kSE3Point3: return 3;
-    case EdgeKind::kSE2BearingRange: return 2;
+    case EdgeKind::kSE2:
+      return 3;
+    case EdgeKind::kSE3:
+      return 6;
+    case EdgeKind::kSE2Point2:
+      return 2;
+    case EdgeKind::kSE3Point3:
+      return 3;
+    case EdgeKind::kSE2BearingRange:
+      return 2;
   }
   return 0;
 }
 
-int MeasurementSize(EdgeKind kind) {
-  return kind == EdgeKind::kSE3 ? 7 : ErrorSize(kind);
-}
+int MeasurementSize(EdgeKind kind) { return kind == EdgeKind::kSE3 ? 7 : ErrorSize(kind); }
 
 int Graph::VertexIndex(int id) const {
   auto it = index_of.find(id);
@@ -81,31 +88,30 @@ std::string Escaped(const std::string& text) {
 
 void Graph::CheckVertex(const Vertex& v) const {
   BOXPLUS_CHECK(index_of.count(v.id) == 0, "vertex id ", v.id, " exists already");
-  BOXPLUS_CHECK(v.estimate.size() == AmbientSize(v.kind), "vertex ", v.id,
-                ": estimate needs ", AmbientSize(v.kind), " numbers, got ",
-                v.estimate.size());
+  BOXPLUS_CHECK(v.estimate.size() == AmbientSize(v.kind), "vertex ", v.id, ": estimate needs ",
+                AmbientSize(v.kind), " numbers, got ", v.estimate.size());
   BOXPLUS_CHECK(v.estimate.allFinite(), "vertex ", v.id, ": estimate is not finite");
   if (v.kind == VertexKind::kSE3) {
     const double n = v.estimate.tail<4>().norm();
-    BOXPLUS_CHECK(std::abs(n - 1.0) < 1e-9, "vertex ", v.id,
-                  ": quaternion is not unit (norm ", n, "); normalise it first");
+    BOXPLUS_CHECK(std::abs(n - 1.0) < 1e-9, "vertex ", v.id, ": quaternion is not unit (norm ", n,
+                  "); normalise it first");
   }
   const int d = PoseDimension(v.kind);
-  BOXPLUS_CHECK(!d || !dimension || d == dimension, "vertex ", v.id, ": a ", d,
-                "D pose in a ", dimension, "D graph");
+  BOXPLUS_CHECK(!d || !dimension || d == dimension, "vertex ", v.id, ": a ", d, "D pose in a ",
+                dimension, "D graph");
 }
 
 void Graph::CheckEdge(const Edge& e) const {
-  BOXPLUS_CHECK_INDEX(index_of.count(e.from) && index_of.count(e.to),
-                      "edge ", e.from, " → ", e.to, ": no such vertex");
+  BOXPLUS_CHECK_INDEX(index_of.count(e.from) && index_of.count(e.to), "edge ", e.from, " → ", e.to,
+                      ": no such vertex");
   BOXPLUS_CHECK(e.from != e.to, "edge ", e.from, " → ", e.to, ": an edge from a vertex to itself");
   const VertexKind a = vertices[index_of.at(e.from)].kind;
   const VertexKind b = vertices[index_of.at(e.to)].kind;
   BOXPLUS_CHECK(ConnectsKinds(e.kind, a, b), "edge ", e.from, " → ", e.to,
                 ": connects vertices of the wrong types");
   const int n = ErrorSize(e.kind);
-  BOXPLUS_CHECK(e.measurement.size() == MeasurementSize(e.kind) &&
-                    e.information.rows() == n && e.information.cols() == n,
+  BOXPLUS_CHECK(e.measurement.size() == MeasurementSize(e.kind) && e.information.rows() == n &&
+                    e.information.cols() == n,
                 "edge ", e.from, " → ", e.to, ": measurement needs ", MeasurementSize(e.kind),
                 " numbers and information ", n, "×", n, ", got ", e.measurement.size(), " and ",
                 e.information.rows(), "×", e.information.cols());
@@ -117,8 +123,8 @@ void Graph::CheckEdge(const Edge& e) const {
                   ": quaternion is not unit (norm ", q, "); normalise it first");
   }
   if (e.kind == EdgeKind::kSE2BearingRange) {
-    BOXPLUS_CHECK(e.measurement[1] >= 0.0, "edge ", e.from, " → ", e.to,
-                  ": negative range ", e.measurement[1]);
+    BOXPLUS_CHECK(e.measurement[1] >= 0.0, "edge ", e.from, " → ", e.to, ": negative range ",
+                  e.measurement[1]);
   }
   BOXPLUS_CHECK(IsPositiveDefinite(e.information), "edge ", e.from, " → ", e.to,
                 ": information matrix is not positive definite");
@@ -126,11 +132,15 @@ void Graph::CheckEdge(const Edge& e) const {
 
 bool ConnectsKinds(EdgeKind e, VertexKind a, VertexKind b) {
   switch (e) {
-    case EdgeKind::kSE2: return a == VertexKind::kSE2 && b == VertexKind::kSE2;
-    case EdgeKind::kSE3: return a == VertexKind::kSE3 && b == VertexKind::kSE3;
+    case EdgeKind::kSE2:
+      return a == VertexKind::kSE2 && b == VertexKind::kSE2;
+    case EdgeKind::kSE3:
+      return a == VertexKind::kSE3 && b == VertexKind::kSE3;
     case EdgeKind::kSE2Point2:
-    case EdgeKind::kSE2BearingRange: return a == VertexKind::kSE2 && b == VertexKind::kPoint2;
-    case EdgeKind::kSE3Point3: return a == VertexKind::kSE3 && b == VertexKind::kPoint3;
+    case EdgeKind::kSE2BearingRange:
+      return a == VertexKind::kSE2 && b == VertexKind::kPoint2;
+    case EdgeKind::kSE3Point3:
+      return a == VertexKind::kSE3 && b == VertexKind::kPoint3;
   }
   return false;
 }
@@ -230,9 +240,7 @@ class LineParser {
   LineParser(const std::string& file, int line, const Fields& fields)
       : file_(file), line_(line), fields_(fields) {}
 
-  [[noreturn]] void Fail(const std::string& what) const {
-    throw ParseError(file_, line_, what);
-  }
+  [[noreturn]] void Fail(const std::string& what) const { throw ParseError(file_, line_, what); }
   void ExpectCount(size_t numbers, const char* layout) const {
     const size_t have = fields_.f.size() - 1;
     if (have < numbers) {
@@ -279,8 +287,7 @@ class LineParser {
     return m;
   }
   Eigen::Vector4d Quaternion(size_t first) const {
-    Eigen::Vector4d q(Number(first), Number(first + 1), Number(first + 2),
-                      Number(first + 3));
+    Eigen::Vector4d q(Number(first), Number(first + 1), Number(first + 2), Number(first + 3));
     if (!NormalizeQuaternion(q.data(), q.data())) {
       Fail(fields_.quoted(0) + ": quaternion has zero norm");
     }
@@ -332,17 +339,16 @@ Eigen::Vector3d EulerFromQuat(const Eigen::VectorXd& xyzw) {
 // TORO EDGE2 stores I11 I12 I22 I33 I13 I23.
 Eigen::MatrixXd ToroInfo2(const LineParser& p, size_t first) {
   Eigen::MatrixXd m(3, 3);
-  const double i11 = p.Number(first), i12 = p.Number(first + 1),
-               i22 = p.Number(first + 2), i33 = p.Number(first + 3),
-               i13 = p.Number(first + 4), i23 = p.Number(first + 5);
+  const double i11 = p.Number(first), i12 = p.Number(first + 1), i22 = p.Number(first + 2),
+               i33 = p.Number(first + 3), i13 = p.Number(first + 4), i23 = p.Number(first + 5);
   m << i11, i12, i13, i12, i22, i23, i13, i23, i33;
   return m;
 }
 
 }  // namespace
 
-Graph ParseG2o(const std::string& text, const std::string& name,
-               const ReadOptions& options, ReadReport* report) {
+Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptions& options,
+               ReadReport* report) {
   ReadReport local;
   ReadReport& rep = report ? *report : local;
   rep = ReadReport();
@@ -387,16 +393,17 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       }
       any_vertex_line = true;
     };
-    auto add_edge = [&](EdgeKind kind, int from, int to, Eigen::VectorXd z,
-                        Eigen::MatrixXd info, bool toro, int param = 0) {
+    auto add_edge = [&](EdgeKind kind, int from, int to, Eigen::VectorXd z, Eigen::MatrixXd info,
+                        bool toro, int param = 0) {
       if (from == to) lp.Fail(tag + ": an edge from vertex " + std::to_string(from) + " to itself");
       if (kind == EdgeKind::kSE2BearingRange && !(z[1] >= 0.0)) {
         lp.Fail(tag + ": negative range " + std::to_string(z[1]));
       }
       if (!IsPositiveDefinite(info)) {
         if (!options.repair_information) {
-          lp.Fail(tag + ": information matrix is not positive definite (use the repair "
-                        "option to replace it by the nearest positive-definite matrix)");
+          lp.Fail(tag +
+                  ": information matrix is not positive definite (use the repair "
+                  "option to replace it by the nearest positive-definite matrix)");
         }
         if (!CanRepair(info)) {
           lp.Fail(tag + ": information matrix is zero or not finite: cannot be repaired");
@@ -446,8 +453,8 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       add_vertex(VertexKind::kPoint2, Eigen::Vector2d(lp.Number(2), lp.Number(3)), false);
     } else if (tag == "VERTEX_TRACKXYZ") {
       lp.ExpectCount(4, "id x y z");
-      add_vertex(VertexKind::kPoint3,
-                 Eigen::Vector3d(lp.Number(2), lp.Number(3), lp.Number(4)), false);
+      add_vertex(VertexKind::kPoint3, Eigen::Vector3d(lp.Number(2), lp.Number(3), lp.Number(4)),
+                 false);
     } else if (tag == "EDGE_SE2") {
       lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I13 I22 I23 I33");
       // The measured angle wrapped exactly, as a vertex's: for |θ| ≫ 2π the
@@ -479,8 +486,8 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       lp.ExpectCount(12, "i j offset_id x y z I(6, upper triangle)");
       const int param = lp.Id(3);
       add_edge(EdgeKind::kSE3Point3, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(4), lp.Number(5), lp.Number(6)),
-               lp.UpperTriangle(7, 3), false, param);
+               Eigen::Vector3d(lp.Number(4), lp.Number(5), lp.Number(6)), lp.UpperTriangle(7, 3),
+               false, param);
     } else if (tag == "EDGE_SE2_BEARING_RANGE") {
       lp.ExpectCount(7, "i j bearing range Ibb Ibr Irr");
       add_edge(EdgeKind::kSE2BearingRange, lp.Id(1), lp.Id(2),
@@ -499,8 +506,8 @@ Graph ParseG2o(const std::string& text, const std::string& name,
       if (t > 1e-12 || std::abs(std::abs(q[3]) - 1.0) > 1e-12) {
         lp.Fail("PARAMS_SE3OFFSET: only the identity offset is supported");
       }
-      g.params.push_back(std::string(fields.f.front().first,
-                                     fields.f.back().first + fields.f.back().second));
+      g.params.push_back(
+          std::string(fields.f.front().first, fields.f.back().first + fields.f.back().second));
       g.order.push_back({Graph::RecordType::kParam, static_cast<int>(g.params.size()) - 1});
     } else if (options.skip_unknown_tags) {
       ++rep.unknown_skipped;
@@ -554,7 +561,8 @@ Graph ParseG2o(const std::string& text, const std::string& name,
     }
     const VertexKind a = g.vertices[g.index_of[e.from]].kind;
     const VertexKind b = g.vertices[g.index_of[e.to]].kind;
-    if (!ConnectsKinds(e.kind, a, b)) throw ParseError(name, e.line, "edge connects vertices of the wrong types");
+    if (!ConnectsKinds(e.kind, a, b))
+      throw ParseError(name, e.line, "edge connects vertices of the wrong types");
   }
   for (size_t f = 0; f < g.fixed.size(); ++f) {
     for (int id : g.fixed[f]) {
@@ -608,8 +616,12 @@ std::string FormatG2o(const Graph& g) {
           case VertexKind::kSE3:
             out += v.toro ? "VERTEX3 " : "VERTEX_SE3:QUAT ";
             break;
-          case VertexKind::kPoint2: out += "VERTEX_XY "; break;
-          case VertexKind::kPoint3: out += "VERTEX_TRACKXYZ "; break;
+          case VertexKind::kPoint2:
+            out += "VERTEX_XY ";
+            break;
+          case VertexKind::kPoint3:
+            out += "VERTEX_TRACKXYZ ";
+            break;
         }
         out += std::to_string(v.id);
         if (v.kind == VertexKind::kSE3 && v.toro) {
@@ -626,11 +638,21 @@ std::string FormatG2o(const Graph& g) {
         const Edge& e = g.edges[rec.index];
         const Eigen::VectorXd& z = e.measurement;
         switch (e.kind) {
-          case EdgeKind::kSE2: out += e.toro ? "EDGE2 " : "EDGE_SE2 "; break;
-          case EdgeKind::kSE3: out += e.toro ? "EDGE3 " : "EDGE_SE3:QUAT "; break;
-          case EdgeKind::kSE2Point2: out += "EDGE_SE2_XY "; break;
-          case EdgeKind::kSE3Point3: out += "EDGE_SE3_TRACKXYZ "; break;
-          case EdgeKind::kSE2BearingRange: out += "EDGE_SE2_BEARING_RANGE "; break;
+          case EdgeKind::kSE2:
+            out += e.toro ? "EDGE2 " : "EDGE_SE2 ";
+            break;
+          case EdgeKind::kSE3:
+            out += e.toro ? "EDGE3 " : "EDGE_SE3:QUAT ";
+            break;
+          case EdgeKind::kSE2Point2:
+            out += "EDGE_SE2_XY ";
+            break;
+          case EdgeKind::kSE3Point3:
+            out += "EDGE_SE3_TRACKXYZ ";
+            break;
+          case EdgeKind::kSE2BearingRange:
+            out += "EDGE_SE2_BEARING_RANGE ";
+            break;
         }
         out += std::to_string(e.from) + " " + std::to_string(e.to);
         if (e.kind == EdgeKind::kSE3Point3) out += " " + std::to_string(e.param);

@@ -129,8 +129,9 @@ std::vector<char> CheckConnected(const Graph& g, int root) {
   }
   for (size_t i = 0; i < g.vertices.size(); ++i) {
     BOXPLUS_CHECK(seen[i] || !IsPose(g.vertices[i].kind), Where(g, g.vertices[i].line),
-                  "initialisation: pose vertex ", g.vertices[i].id, " is not connected to the root vertex ",
-                  g.vertices[root].id, " by pose-pose edges");
+                  "initialisation: pose vertex ", g.vertices[i].id,
+                  " is not connected to the root vertex ", g.vertices[root].id,
+                  " by pose-pose edges");
   }
   return seen;
 }
@@ -149,8 +150,12 @@ void Initialize(Graph* g, InitMethod method, int root_id) {
     case InitMethod::kFile:
       if (!g->estimates_from_file) InitializeSpanningTree(g, root_id);
       return;
-    case InitMethod::kSpanningTree: InitializeSpanningTree(g, root_id); return;
-    case InitMethod::kChordal: InitializeChordal(g, root_id); return;
+    case InitMethod::kSpanningTree:
+      InitializeSpanningTree(g, root_id);
+      return;
+    case InitMethod::kChordal:
+      InitializeChordal(g, root_id);
+      return;
   }
 }
 

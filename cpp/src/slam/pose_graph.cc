@@ -50,10 +50,18 @@ double EdgeChi2(const io::Edge& e, const double* a, const double* b,
   const int n = io::ErrorSize(e.kind);
   Eigen::VectorXd err(n);
   switch (e.kind) {
-    case io::EdgeKind::kSE2: RelativePose2DError(a, b, z, err.data(), convention); break;
-    case io::EdgeKind::kSE3: RelativePose3DError(a, b, z, convention, err.data()); break;
-    case io::EdgeKind::kSE2Point2: PosePoint2DError(a, b, z, err.data()); break;
-    case io::EdgeKind::kSE3Point3: PosePoint3DError(a, b, z, err.data()); break;
+    case io::EdgeKind::kSE2:
+      RelativePose2DError(a, b, z, err.data(), convention);
+      break;
+    case io::EdgeKind::kSE3:
+      RelativePose3DError(a, b, z, convention, err.data());
+      break;
+    case io::EdgeKind::kSE2Point2:
+      PosePoint2DError(a, b, z, err.data());
+      break;
+    case io::EdgeKind::kSE3Point3:
+      PosePoint3DError(a, b, z, err.data());
+      break;
     case io::EdgeKind::kSE2BearingRange:
       if (!BearingRange2DError(a, b, z, err.data())) return INFINITY;
       break;
@@ -69,10 +77,14 @@ std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
   static const auto r2 = MakeManifold("Rn", 2);
   static const auto r3 = MakeManifold("Rn", 3);
   switch (kind) {
-    case io::VertexKind::kSE2: return se2;
-    case io::VertexKind::kSE3: return se3;
-    case io::VertexKind::kPoint2: return r2;
-    case io::VertexKind::kPoint3: return r3;
+    case io::VertexKind::kSE2:
+      return se2;
+    case io::VertexKind::kSE3:
+      return se3;
+    case io::VertexKind::kPoint2:
+      return r2;
+    case io::VertexKind::kPoint3:
+      return r3;
   }
   return nullptr;
 }
@@ -85,8 +97,8 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
   var_of_vertex_.reserve(graph_.vertices.size());
   for (const io::Vertex& v : graph_.vertices) {
     try {
-      var_of_vertex_.push_back(problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
-                                                    "x" + std::to_string(v.id)));
+      var_of_vertex_.push_back(
+          problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(), "x" + std::to_string(v.id)));
     } catch (const Error& err) {
       // An estimate the initialisation made non-finite names the vertex's line.
       if (graph_.name.empty() || v.line <= 0) throw;
@@ -161,8 +173,8 @@ int PoseGraph::AddVertex(const io::Vertex& vertex) {
     v.estimate[2] = WrapAngleExact(v.estimate[2]);
   }
   graph_.CheckVertex(v);
-  const int var = problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(),
-                                       "x" + std::to_string(v.id));
+  const int var =
+      problem_.AddVariable(ManifoldOf(v.kind), v.estimate.data(), "x" + std::to_string(v.id));
   graph_.AddVertex(v);
   var_of_vertex_.push_back(var);
   return var;
@@ -171,8 +183,8 @@ int PoseGraph::AddVertex(const io::Vertex& vertex) {
 int PoseGraph::AddEdge(const io::Edge& edge) {
   io::Edge e = edge;
   if (e.kind == io::EdgeKind::kSE3 && e.measurement.size() == 7) {
-    BOXPLUS_CHECK(NormalizeQuaternion(e.measurement.data() + 3, e.measurement.data() + 3),
-                  "edge ", e.from, " → ", e.to, ": quaternion is zero or not finite");
+    BOXPLUS_CHECK(NormalizeQuaternion(e.measurement.data() + 3, e.measurement.data() + 3), "edge ",
+                  e.from, " → ", e.to, ": quaternion is zero or not finite");
   }
   graph_.CheckEdge(e);
   AddEdgeToProblem(e);

@@ -55,8 +55,7 @@ ceres::Solver::Options CeresOptions(const SolverOptions& options) {
   ceres::Solver::Options o;
   o.minimizer_type = ceres::TRUST_REGION;
   o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  BOXPLUS_CHECK(options.initial_trust_region_radius > 0,
-                "initial_trust_region_radius must be > 0");
+  BOXPLUS_CHECK(options.initial_trust_region_radius > 0, "initial_trust_region_radius must be > 0");
   BOXPLUS_CHECK(options.max_consecutive_nonmonotonic_steps >= 0,
                 "max_consecutive_nonmonotonic_steps must be >= 0");
   o.initial_trust_region_radius = options.initial_trust_region_radius;

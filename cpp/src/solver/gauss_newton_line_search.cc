@@ -31,7 +31,10 @@ class GaussNewtonLineSearch {
  public:
   GaussNewtonLineSearch(const std::vector<LsqBlock>& blocks, const std::vector<LsqTerm>& terms,
                         const SolverOptions& options, const PrepareEvaluation& prepare)
-      : blocks_(blocks), terms_(terms), options_(options), prepare_(prepare),
+      : blocks_(blocks),
+        terms_(terms),
+        options_(options),
+        prepare_(prepare),
         normal_(blocks, terms) {}
 
   SolveSummary Run() {
@@ -53,8 +56,8 @@ class GaussNewtonLineSearch {
     std::ostringstream r;
     r << "Gauss-Newton with backtracking line search (boxplus; " << cholesky_.name() << ")\n"
       << "  parameter blocks " << blocks_.size() << " (" << normal_.free_blocks().size()
-      << " free), tangent size " << normal_.tangent_size() << ", residual blocks "
-      << terms_.size() << ", Hessian non-zeros (upper) " << normal_.hessian().nonZeros() << "\n"
+      << " free), tangent size " << normal_.tangent_size() << ", residual blocks " << terms_.size()
+      << ", Hessian non-zeros (upper) " << normal_.hessian().nonZeros() << "\n"
       << "  iterations " << summary_.iterations << ", step halvings " << halvings_ << "\n"
       << "  residual-only evaluations   " << cost_evals_ << ", " << cost_time_ << " s\n"
       << "  normal-equation assemblies  " << normal_evals_ << ", " << normal_time_ << " s\n"
@@ -163,8 +166,8 @@ class GaussNewtonLineSearch {
         return Finish("convergence", "no free variable is touched by a measurement", true);
       }
       if (gmax <= options_.gradient_tolerance) {
-        return Finish("convergence", "gradient tolerance reached: max |g| = " +
-                                         std::to_string(gmax), true);
+        return Finish("convergence",
+                      "gradient tolerance reached: max |g| = " + std::to_string(gmax), true);
       }
       if (it > options_.max_iterations) {
         return Finish("no_convergence", "maximum number of iterations reached", true);
@@ -175,8 +178,10 @@ class GaussNewtonLineSearch {
       }
       const double slope = normal_.gradient().dot(delta);
       if (!(slope < 0.0)) {
-        return Finish("convergence", "the Gauss-Newton step is not a descent direction "
-                                     "(the gradient is numerically zero)", true);
+        return Finish("convergence",
+                      "the Gauss-Newton step is not a descent direction "
+                      "(the gradient is numerically zero)",
+                      true);
       }
       double alpha = 1.0, trial = 0.0;
       bool accepted = false;
@@ -190,8 +195,10 @@ class GaussNewtonLineSearch {
       }
       if (!accepted) {
         RestoreAccepted();
-        return Finish("convergence", "the line search found no decrease along the "
-                                     "Gauss-Newton direction", true);
+        return Finish("convergence",
+                      "the line search found no decrease along the "
+                      "Gauss-Newton direction",
+                      true);
       }
       const double old_cost = cost;
       const double step_norm = alpha * delta.norm();
@@ -200,8 +207,7 @@ class GaussNewtonLineSearch {
       summary_.iterations = it;
       summary_.final_cost = trial;
       if (!Evaluate(true, &cost)) {
-        return Finish("failure", "the Jacobians cannot be evaluated at the accepted point",
-                      true);
+        return Finish("failure", "the Jacobians cannot be evaluated at the accepted point", true);
       }
       info.iteration = it;
       info.cost = cost;
@@ -215,8 +221,9 @@ class GaussNewtonLineSearch {
       info.step_is_successful = true;
       Progress(info);
       if (std::abs(old_cost - cost) <= options_.function_tolerance * old_cost) {
-        return Finish("convergence", "function tolerance reached: |Δcost|/cost = " +
-                                         std::to_string(std::abs(old_cost - cost) / old_cost),
+        return Finish("convergence",
+                      "function tolerance reached: |Δcost|/cost = " +
+                          std::to_string(std::abs(old_cost - cost) / old_cost),
                       true);
       }
       if (step_norm <= options_.parameter_tolerance * (x_norm + options_.parameter_tolerance)) {

@@ -76,8 +76,8 @@ bool SparseCholesky::Solve(const Matrix& H, const Eigen::VectorXd& b, Eigen::Vec
       if (x->allFinite()) return true;
     }
     // Only a failed factorisation pays for the scan of the diagonal.
-    shift = shift == 0.0 ? 1e-12 * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff())
-                         : shift * 100.0;
+    shift =
+        shift == 0.0 ? 1e-12 * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff()) : shift * 100.0;
   }
   return false;
 }

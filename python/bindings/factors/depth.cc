@@ -5,9 +5,9 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
+#include "../manifold_handle.h"
 #include "boxplus/factors/depth/disparity.h"
 #include "boxplus/problem.h"
-#include "../manifold_handle.h"
 
 namespace py = pybind11;
 
@@ -24,9 +24,8 @@ void RegisterDepthFactors(py::module_& m) {
                                 {world_from_rig, cam_from_rig, disparity_params}, noise,
                                 loss ? loss->loss : nullptr, name);
       },
-      py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("disparity_params"),
-      py::arg("d"), py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "",
-      py::arg("loss") = nullptr,
+      py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("disparity_params"), py::arg("d"),
+      py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
       "Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see "
       "factors/depth/disparity.h.");
 }

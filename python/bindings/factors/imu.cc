@@ -5,9 +5,9 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
+#include "../manifold_handle.h"
 #include "boxplus/factors/imu/gravity.h"
 #include "boxplus/problem.h"
-#include "../manifold_handle.h"
 
 namespace py = pybind11;
 

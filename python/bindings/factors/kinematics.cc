@@ -6,9 +6,9 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
+#include "../manifold_handle.h"
 #include "boxplus/factors/kinematics/marker.h"
 #include "boxplus/problem.h"
-#include "../manifold_handle.h"
 
 namespace py = pybind11;
 

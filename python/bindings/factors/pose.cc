@@ -25,8 +25,7 @@ std::shared_ptr<ceres::LossFunction> Loss(const LossHandle* loss) {
 }
 
 void CheckDim(const NoiseModel& noise, int dim, const std::string& what) {
-  BOXPLUS_CHECK(noise.dim() == dim, what, ": noise of dimension ", noise.dim(), ", expected ",
-                dim);
+  BOXPLUS_CHECK(noise.dim() == dim, what, ": noise of dimension ", noise.dim(), ", expected ", dim);
 }
 
 }  // namespace
@@ -53,11 +52,11 @@ void RegisterPoseFactors(py::module_& m) {
         CheckDim(noise, 3, name.empty() ? "add_point" : name);
         if (p_in_world_id >= 0) {
           return p.AddMeasurement(MakeLandmarkPointFactor(z, noise),
-                                  {world_from_rig, cam_from_rig, p_in_world_id}, noise,
-                                  Loss(loss), name);
+                                  {world_from_rig, cam_from_rig, p_in_world_id}, noise, Loss(loss),
+                                  name);
         }
-        return p.AddMeasurement(MakePointFactor(z, noise, p_in_world), {world_from_rig, cam_from_rig},
-                                noise, Loss(loss), name);
+        return p.AddMeasurement(MakePointFactor(z, noise, p_in_world),
+                                {world_from_rig, cam_from_rig}, noise, Loss(loss), name);
       },
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("p_in_world_id"), py::arg("z"),
       py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,

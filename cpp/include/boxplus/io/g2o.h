@@ -83,10 +83,10 @@ struct Vertex {
 
 struct Edge {
   EdgeKind kind = EdgeKind::kSE2;
-  int from = 0, to = 0;          // vertex ids as in the file
-  Eigen::VectorXd measurement;   // SE2 [x, y, θ]; SE3 [t, qxyzw]; points; [b, r]
-  Eigen::MatrixXd information;   // full symmetric, error order (see above)
-  int param = 0;                 // EDGE_SE3_TRACKXYZ offset parameter id
+  int from = 0, to = 0;         // vertex ids as in the file
+  Eigen::VectorXd measurement;  // SE2 [x, y, θ]; SE3 [t, qxyzw]; points; [b, r]
+  Eigen::MatrixXd information;  // full symmetric, error order (see above)
+  int param = 0;                // EDGE_SE3_TRACKXYZ offset parameter id
   bool toro = false;
   int line = 0;
 };
@@ -100,8 +100,8 @@ struct Graph {
   };
   std::vector<Vertex> vertices;
   std::vector<Edge> edges;
-  std::vector<std::vector<int>> fixed;   // each FIX line's ids
-  std::vector<std::string> params;       // PARAMS_* lines, verbatim
+  std::vector<std::vector<int>> fixed;  // each FIX line's ids
+  std::vector<std::string> params;      // PARAMS_* lines, verbatim
   std::vector<Record> order;
   std::unordered_map<int, int> index_of;  // vertex id → index in vertices
   int dimension = 0;                      // 2 or 3 (of the poses), 0 if none
@@ -146,8 +146,8 @@ struct ReadReport {
 Graph ReadG2o(const std::string& path, const ReadOptions& options = {},
               ReadReport* report = nullptr);
 // Parses text as if it were the content of a file named `name`.
-Graph ParseG2o(const std::string& text, const std::string& name,
-               const ReadOptions& options = {}, ReadReport* report = nullptr);
+Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptions& options = {},
+               ReadReport* report = nullptr);
 
 // Writes the graph in its original order and tags (values with 17
 // significant digits). Throws boxplus::Error if the file cannot be written.

@@ -23,8 +23,7 @@ class OpsManifold final : public ceres::Manifold {
  public:
   int AmbientSize() const override { return Ops::kAmbient; }
   int TangentSize() const override { return Ops::kTangent; }
-  bool Plus(const double* x, const double* delta,
-            double* x_plus_delta) const override {
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
     Ops::Plus(x, delta, x_plus_delta);
     return true;
   }
@@ -32,8 +31,7 @@ class OpsManifold final : public ceres::Manifold {
     Ops::PlusJacobian(x, jacobian);
     return true;
   }
-  bool Minus(const double* y, const double* x,
-             double* y_minus_x) const override {
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
     Ops::Minus(y, x, y_minus_x);
     return true;
   }

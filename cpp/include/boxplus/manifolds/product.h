@@ -16,16 +16,13 @@ namespace boxplus {
 
 class ProductManifold final : public ceres::Manifold {
  public:
-  explicit ProductManifold(
-      std::vector<std::shared_ptr<const ceres::Manifold>> members);
+  explicit ProductManifold(std::vector<std::shared_ptr<const ceres::Manifold>> members);
 
   int AmbientSize() const override { return ambient_size_; }
   int TangentSize() const override { return tangent_size_; }
-  bool Plus(const double* x, const double* delta,
-            double* x_plus_delta) const override;
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override;
   bool PlusJacobian(const double* x, double* jacobian) const override;
-  bool Minus(const double* y, const double* x,
-             double* y_minus_x) const override;
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override;
   bool MinusJacobian(const double* x, double* jacobian) const override;
 
   int num_members() const { return static_cast<int>(members_.size()); }

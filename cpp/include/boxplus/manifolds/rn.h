@@ -47,8 +47,7 @@ class RnManifold final : public ceres::Manifold {
     Eigen::Map<Eigen::MatrixXd>(J, n_, n_).setIdentity();
     return true;
   }
-  bool RightMultiplyByPlusJacobian(const double*, int num_rows,
-                                   const double* ambient,
+  bool RightMultiplyByPlusJacobian(const double*, int num_rows, const double* ambient,
                                    double* tangent) const override {
     std::copy(ambient, ambient + num_rows * n_, tangent);
     return true;
@@ -76,13 +75,12 @@ class Rn {
   int dof() const { return static_cast<int>(v_.size()); }
   const Eigen::VectorXd& vec() const { return v_; }
   Rn boxplus(const Eigen::VectorXd& d) const {
-    BOXPLUS_CHECK(d.size() == v_.size(), "Rn(", v_.size(),
-                  ") ⊞ δ: δ has size ", d.size());
+    BOXPLUS_CHECK(d.size() == v_.size(), "Rn(", v_.size(), ") ⊞ δ: δ has size ", d.size());
     return Rn(Eigen::VectorXd(v_ + d));
   }
   Eigen::VectorXd boxminus(const Rn& x) const {
-    BOXPLUS_CHECK(x.v_.size() == v_.size(), "Rn(", v_.size(), ") ⊟ Rn(",
-                  x.v_.size(), "): sizes differ");
+    BOXPLUS_CHECK(x.v_.size() == v_.size(), "Rn(", v_.size(), ") ⊟ Rn(", x.v_.size(),
+                  "): sizes differ");
     return v_ - x.v_;
   }
 

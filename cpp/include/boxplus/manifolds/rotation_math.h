@@ -51,8 +51,7 @@ void QuatExp(const T* delta, T* out) {
   using std::cos;
   using std::sin;
   using std::sqrt;
-  const T theta_sq =
-      delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
+  const T theta_sq = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
   T w, k;  // out = [k δ, w]
   if (theta_sq < T(kSmallAngleSq)) {
     w = T(1.0) - theta_sq / T(8.0);

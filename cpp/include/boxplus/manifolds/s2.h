@@ -115,14 +115,11 @@ class S2 : public ManifoldValue<S2, S2Ops> {
   // Normalises v; throws on a zero or non-finite vector.
   explicit S2(const Eigen::Vector3d& v) {
     const double n = v.norm();
-    BOXPLUS_CHECK(std::isfinite(n) && n > 1e-12,
-                  "S2: vector must be finite and non-zero, got [",
+    BOXPLUS_CHECK(std::isfinite(n) && n > 1e-12, "S2: vector must be finite and non-zero, got [",
                   v.transpose(), "]");
     x_ = v / n;
   }
-  static S2 FromAmbient(const double* a) {
-    return S2(Eigen::Vector3d(a[0], a[1], a[2]));
-  }
+  static S2 FromAmbient(const double* a) { return S2(Eigen::Vector3d(a[0], a[1], a[2])); }
   Eigen::Vector3d vec() const { return x_; }
   // Orthonormal basis of the tangent plane used by ⊞/⊟ (3 × 2).
   Eigen::Matrix<double, 3, 2> tangent_basis() const {

@@ -46,21 +46,16 @@ class SE2 : public ManifoldValue<SE2, SE2Ops> {
  public:
   SE2() { x_.setZero(); }
   SE2(const Eigen::Vector2d& pos, double phi) {
-    BOXPLUS_CHECK(pos.allFinite() && std::isfinite(phi),
-                  "SE2: position and angle must be finite");
+    BOXPLUS_CHECK(pos.allFinite() && std::isfinite(phi), "SE2: position and angle must be finite");
     x_ << pos, WrapAngle(phi);
   }
   SE2(const Eigen::Vector2d& pos, const SO2& rot) : SE2(pos, rot.angle()) {}
   static SE2 FromMatrix(const Eigen::Matrix3d& T) {
-    BOXPLUS_CHECK(std::abs(T(2, 0)) + std::abs(T(2, 1)) +
-                          std::abs(T(2, 2) - 1.0) < 1e-9,
+    BOXPLUS_CHECK(std::abs(T(2, 0)) + std::abs(T(2, 1)) + std::abs(T(2, 2) - 1.0) < 1e-9,
                   "SE2: last row of a homogeneous matrix must be [0 0 1]");
-    return SE2(T.block<2, 1>(0, 2),
-               SO2::FromMatrix(T.block<2, 2>(0, 0)).angle());
+    return SE2(T.block<2, 1>(0, 2), SO2::FromMatrix(T.block<2, 2>(0, 0)).angle());
   }
-  static SE2 FromAmbient(const double* a) {
-    return SE2(Eigen::Vector2d(a[0], a[1]), a[2]);
-  }
+  static SE2 FromAmbient(const double* a) { return SE2(Eigen::Vector2d(a[0], a[1]), a[2]); }
   // identity ⊞ [p, φ] and x ⊟ identity: the compound's chart at the identity.
   static SE2 Exp(const Eigen::Vector3d& tangent) { return SE2().boxplus(tangent); }
   Tangent Log() const { return boxminus(SE2()); }
@@ -75,9 +70,7 @@ class SE2 : public ManifoldValue<SE2, SE2Ops> {
     T.block<2, 1>(0, 2) = pos();
     return T;
   }
-  Eigen::Vector2d fromlocal(const Eigen::Vector2d& v) const {
-    return rotation() * v + pos();
-  }
+  Eigen::Vector2d fromlocal(const Eigen::Vector2d& v) const { return rotation() * v + pos(); }
   Eigen::Vector2d tolocal(const Eigen::Vector2d& v) const {
     return rotation().inverse() * (v - pos());
   }
@@ -85,12 +78,8 @@ class SE2 : public ManifoldValue<SE2, SE2Ops> {
     const SO2 rinv = rotation().inverse();
     return SE2(-(rinv * pos()), rinv.angle());
   }
-  SE2 operator*(const SE2& b) const {
-    return SE2(fromlocal(b.pos()), x_[2] + b.x_[2]);
-  }
-  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
-    return fromlocal(p);
-  }
+  SE2 operator*(const SE2& b) const { return SE2(fromlocal(b.pos()), x_[2] + b.x_[2]); }
+  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const { return fromlocal(p); }
 };
 
 }  // namespace boxplus

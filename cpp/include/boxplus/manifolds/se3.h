@@ -36,8 +36,7 @@ struct SE3Ops {
     Jm.topLeftCorner<3, 3>().setIdentity();
     double Jq[12];
     SO3Ops::PlusJacobian(x + 3, Jq);
-    Jm.bottomRightCorner<4, 3>() =
-        Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(Jq);
+    Jm.bottomRightCorner<4, 3>() = Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(Jq);
   }
   static void MinusJacobian(const double* x, double* J) {
     Eigen::Map<Eigen::Matrix<double, 6, 7, Eigen::RowMajor>> Jm(J);
@@ -45,8 +44,7 @@ struct SE3Ops {
     Jm.topLeftCorner<3, 3>().setIdentity();
     double Jq[12];
     SO3Ops::MinusJacobian(x + 3, Jq);
-    Jm.bottomRightCorner<3, 4>() =
-        Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(Jq);
+    Jm.bottomRightCorner<3, 4>() = Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(Jq);
   }
 };
 
@@ -64,16 +62,13 @@ class SE3 : public ManifoldValue<SE3, SE3Ops> {
   static SE3 FromMatrix(const Eigen::Matrix4d& T) {
     BOXPLUS_CHECK((T.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).norm() < 1e-9,
                   "SE3: last row of a homogeneous matrix must be [0 0 0 1]");
-    return SE3(SO3::FromMatrix(T.topLeftCorner<3, 3>()),
-               T.topRightCorner<3, 1>());
+    return SE3(SO3::FromMatrix(T.topLeftCorner<3, 3>()), T.topRightCorner<3, 1>());
   }
   static SE3 FromAmbient(const double* a) {
     return SE3(SO3::FromAmbient(a + 3), Eigen::Vector3d(a[0], a[1], a[2]));
   }
   // identity ⊞ [p, w] = (p, exp(w)): the compound's chart at the identity.
-  static SE3 Exp(const Eigen::Matrix<double, 6, 1>& tangent) {
-    return SE3().boxplus(tangent);
-  }
+  static SE3 Exp(const Eigen::Matrix<double, 6, 1>& tangent) { return SE3().boxplus(tangent); }
   // x ⊟ identity = [p, log R]; Exp(Log()) is the identity map.
   Tangent Log() const { return boxminus(SE3()); }
 
@@ -86,9 +81,7 @@ class SE3 : public ManifoldValue<SE3, SE3Ops> {
     T.topRightCorner<3, 1>() = pos();
     return T;
   }
-  Eigen::Vector3d fromlocal(const Eigen::Vector3d& v) const {
-    return rotation() * v + pos();
-  }
+  Eigen::Vector3d fromlocal(const Eigen::Vector3d& v) const { return rotation() * v + pos(); }
   Eigen::Vector3d tolocal(const Eigen::Vector3d& v) const {
     return rotation().inverse() * (v - pos());
   }
@@ -96,12 +89,8 @@ class SE3 : public ManifoldValue<SE3, SE3Ops> {
     const SO3 rinv = rotation().inverse();
     return SE3(rinv, -(rinv * pos()));
   }
-  SE3 operator*(const SE3& b) const {
-    return SE3(rotation() * b.rotation(), fromlocal(b.pos()));
-  }
-  Eigen::Vector3d operator*(const Eigen::Vector3d& p) const {
-    return fromlocal(p);
-  }
+  SE3 operator*(const SE3& b) const { return SE3(rotation() * b.rotation(), fromlocal(b.pos())); }
+  Eigen::Vector3d operator*(const Eigen::Vector3d& p) const { return fromlocal(p); }
 };
 
 }  // namespace boxplus

@@ -56,9 +56,7 @@ class SO2 : public ManifoldValue<SO2, SO2Ops> {
   }
   SO2 inverse() const { return SO2(-x_[0]); }
   SO2 operator*(const SO2& b) const { return SO2(x_[0] + b.x_[0]); }
-  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const {
-    return matrix() * p;
-  }
+  Eigen::Vector2d operator*(const Eigen::Vector2d& p) const { return matrix() * p; }
 };
 
 }  // namespace boxplus

@@ -31,9 +31,9 @@ struct SO3Ops {
   // d(x ⊗ exp(δ))/dδ at 0 = ½ [x]_L restricted to pure quaternions.
   static void PlusJacobian(const double* q, double* J) {
     const double x = q[0], y = q[1], z = q[2], w = q[3];
-    const double rows[12] = {w, -z, y,   //
-                             z, w,  -x,  //
-                             -y, x, w,   //
+    const double rows[12] = {w,  -z, y,   //
+                             z,  w,  -x,  //
+                             -y, x,  w,   //
                              -x, -y, -z};
     for (int i = 0; i < 12; ++i) J[i] = 0.5 * rows[i];
   }
@@ -58,8 +58,8 @@ class SO3 : public ManifoldValue<SO3, SO3Ops> {
   static SO3 FromQuaternion(const Eigen::Vector4d& xyzw) {
     const double n = xyzw.norm();
     BOXPLUS_CHECK(std::isfinite(n) && n > 1e-12,
-                  "SO3: quaternion must be finite and non-zero, got [",
-                  xyzw.transpose(), "] (order x y z w)");
+                  "SO3: quaternion must be finite and non-zero, got [", xyzw.transpose(),
+                  "] (order x y z w)");
     SO3 r;
     r.x_ = xyzw / n;
     return r;
@@ -70,8 +70,8 @@ class SO3 : public ManifoldValue<SO3, SO3Ops> {
     BOXPLUS_CHECK(R.allFinite(), "SO3: rotation matrix has non-finite entries");
     const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
     BOXPLUS_CHECK(err < 1e-6 && R.determinant() > 0,
-                  "SO3: not a rotation matrix (|RᵀR − I| = ", err,
-                  ", det = ", R.determinant(), ")");
+                  "SO3: not a rotation matrix (|RᵀR − I| = ", err, ", det = ", R.determinant(),
+                  ")");
     Eigen::Quaterniond q(R);
     return FromQuaternion(q.coeffs());
   }
@@ -90,12 +90,8 @@ class SO3 : public ManifoldValue<SO3, SO3Ops> {
     return w;
   }
   Eigen::Vector4d quat() const { return x_; }
-  Eigen::Quaterniond quaternion() const {
-    return Eigen::Quaterniond(x_[3], x_[0], x_[1], x_[2]);
-  }
-  Eigen::Matrix3d matrix() const {
-    return quaternion().toRotationMatrix();
-  }
+  Eigen::Quaterniond quaternion() const { return Eigen::Quaterniond(x_[3], x_[0], x_[1], x_[2]); }
+  Eigen::Matrix3d matrix() const { return quaternion().toRotationMatrix(); }
   SO3 inverse() const {
     SO3 r;
     QuatConjugate(x_.data(), r.x_.data());

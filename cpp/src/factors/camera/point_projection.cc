@@ -10,9 +10,8 @@ std::shared_ptr<ceres::CostFunction> MakePinholePointFactor(const std::string& m
                                                             const Eigen::Vector3d& p_in_world) {
   BOXPLUS_CHECK(z.allFinite() && p_in_world.allFinite(), "projection factor: non-finite input");
   const Eigen::Matrix2d W = noise.Fixed<2>("projection factor");
-  return camera::WithCameraModel(model, [&](auto m) {
-    return PinholePointFunctor<decltype(m)>::Create(z, W, p_in_world);
-  });
+  return camera::WithCameraModel(
+      model, [&](auto m) { return PinholePointFunctor<decltype(m)>::Create(z, W, p_in_world); });
 }
 
 }  // namespace boxplus

@@ -10,8 +10,7 @@ namespace boxplus {
 namespace {
 
 template <class Ops>
-std::shared_ptr<ceres::CostFunction> Fixed(const Eigen::VectorXd& z,
-                                           const Eigen::MatrixXd& W) {
+std::shared_ptr<ceres::CostFunction> Fixed(const Eigen::VectorXd& z, const Eigen::MatrixXd& W) {
   return PriorFunctor<Ops>::Create(z, W);
 }
 
@@ -22,14 +21,13 @@ class RnPrior final : public ceres::CostFunction {
     set_num_residuals(static_cast<int>(z.size()));
     mutable_parameter_block_sizes()->push_back(static_cast<int>(z.size()));
   }
-  bool Evaluate(double const* const* x, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     const int n = static_cast<int>(z_.size());
     Eigen::Map<Eigen::VectorXd>(residuals, n) =
         W_ * (Eigen::Map<const Eigen::VectorXd>(x[0], n) - z_);
     if (jacobians && jacobians[0]) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic,
-                               Eigen::RowMajor>>(jacobians[0], n, n) = W_;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          jacobians[0], n, n) = W_;
     }
     return true;
   }
@@ -42,8 +40,7 @@ class RnPrior final : public ceres::CostFunction {
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
-                                               const Eigen::VectorXd& z,
-                                               const NoiseModel& noise,
+                                               const Eigen::VectorXd& z, const NoiseModel& noise,
                                                const std::string& what) {
   const Eigen::MatrixXd& W = noise.sqrt_information();
   const int a = manifold.AmbientSize(), t = manifold.TangentSize();

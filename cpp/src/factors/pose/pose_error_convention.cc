@@ -10,15 +10,17 @@ PoseErrorConvention ParsePoseErrorConvention(const std::string& name) {
     return PoseErrorConvention::kLog;
   }
   if (name == "sesync" || name == "chordal") return PoseErrorConvention::kSESync;
-  throw Error("unknown pose error convention '" + name +
-              "' (expected 'g2o', 'log' or 'sesync')");
+  throw Error("unknown pose error convention '" + name + "' (expected 'g2o', 'log' or 'sesync')");
 }
 
 const char* ToString(PoseErrorConvention c) {
   switch (c) {
-    case PoseErrorConvention::kG2o: return "g2o";
-    case PoseErrorConvention::kLog: return "log";
-    case PoseErrorConvention::kSESync: return "sesync";
+    case PoseErrorConvention::kG2o:
+      return "g2o";
+    case PoseErrorConvention::kLog:
+      return "log";
+    case PoseErrorConvention::kSESync:
+      return "sesync";
   }
   return "?";
 }

@@ -16,8 +16,7 @@ class RelativePose2DCost final : public ceres::SizedCostFunction<3, 3, 3> {
     cz_ = std::cos(z[2]);
     sz_ = std::sin(z[2]);
   }
-  bool Evaluate(double const* const* x, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     const double* xi = x[0];
     const double* xj = x[1];
     const double ci = std::cos(xi[2]), si = std::sin(xi[2]);
@@ -89,8 +88,9 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z
   return std::make_shared<RelativePose2DCost>(z, noise.Fixed<3>("relative pose 2D"));
 }
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(
-    const Eigen::Vector3d& z, const NoiseModel& noise, PoseErrorConvention convention) {
+std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(const Eigen::Vector3d& z,
+                                                                const NoiseModel& noise,
+                                                                PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, noise);
   BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
   const Eigen::Matrix3d U = noise.Fixed<3>("relative pose 2D");

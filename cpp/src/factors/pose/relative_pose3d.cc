@@ -48,8 +48,7 @@ class RelativePose3DG2oCost final : public ceres::SizedCostFunction<6, 7, 7> {
     RzT_ = qz_.conjugate().toRotationMatrix();
   }
 
-  bool Evaluate(double const* const* x, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     const double* xi = x[0];
     const double* xj = x[1];
     const Eigen::Map<const Eigen::Vector3d> pi(xi), pj(xj);
@@ -112,8 +111,7 @@ class RelativePose3DLogCost final : public ceres::SizedCostFunction<6, 7, 7> {
     RzT_ = qz_.conjugate().toRotationMatrix();
   }
 
-  bool Evaluate(double const* const* x, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
     const double* xi = x[0];
     const double* xj = x[1];
     Eigen::Vector3d t;
@@ -154,7 +152,8 @@ class RelativePose3DLogCost final : public ceres::SizedCostFunction<6, 7, 7> {
     const Mat3 I = Mat3::Identity();
     const Mat3 Vinv = I - 0.5 * W + c * W2;
     const Mat3 Jrinv = I + 0.5 * W + c * W2;
-    const Mat3 dudw = 0.5 * Skew(t) + c * (w.dot(t) * I + w * t.transpose() - 2.0 * t * w.transpose()) +
+    const Mat3 dudw = 0.5 * Skew(t) +
+                      c * (w.dot(t) * I + w * t.transpose() - 2.0 * t * w.transpose()) +
                       dc * wwt * w.transpose();
     // U · ∂e/∂(t_Δ, φ) = [U_l Vinv,  U_l dudw Jrinv + U_r Jrinv], U = [U_l U_r].
     const Eigen::Matrix<double, 6, 3> Ut = U_.leftCols<3>() * Vinv;
@@ -208,9 +207,9 @@ Eigen::Matrix<double, 7, 1> Normalized(const Eigen::Matrix<double, 7, 1>& z) {
 
 }  // namespace
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
-    PoseErrorConvention convention) {
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(const Eigen::Matrix<double, 7, 1>& z,
+                                                        const NoiseModel& noise,
+                                                        PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
   const Mat6 U = noise.Fixed<6>("relative pose 3D");
   if (convention == PoseErrorConvention::kLog) {
@@ -220,8 +219,7 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
 }
 
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
-    PoseErrorConvention convention) {
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise, PoseErrorConvention convention) {
   if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
   const Mat6 U = noise.Fixed<6>("relative pose 3D");
   return std::make_shared<ceres::AutoDiffCostFunction<RelativePose3DFunctor, 6, 7, 7>>(

@@ -35,8 +35,7 @@ struct SESync3DFunctor {
 
 SESyncPrecisions SESyncPrecisionsOf(const NoiseModel& noise) {
   const int n = noise.dim();
-  BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: noise must be of dimension 3 or 6, got ",
-                n);
+  BOXPLUS_CHECK(n == 3 || n == 6, "SE-Sync precisions: noise must be of dimension 3 or 6, got ", n);
   const Eigen::MatrixXd information = noise.information();
   const int d = n == 3 ? 2 : 3;
   const Eigen::MatrixXd Ot = information.topLeftCorner(d, d);
@@ -58,8 +57,8 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vecto
       new SESync2DFunctor{z, SESyncPrecisionsOf(noise)});
 }
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise) {
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(const Eigen::Matrix<double, 7, 1>& z,
+                                                              const NoiseModel& noise) {
   BOXPLUS_CHECK(z.allFinite(), "relative pose 3D (SE-Sync): measurement must be finite");
   Eigen::Matrix<double, 7, 1> zn = z;
   BOXPLUS_CHECK(NormalizeQuaternion(z.data() + 3, zn.data() + 3),

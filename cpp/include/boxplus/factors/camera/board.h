@@ -31,8 +31,7 @@ using BoardPoints = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 template <class Model>
 class PinholeBoardFunctor {
  public:
-  PinholeBoardFunctor(const BoardPixels& z, const Eigen::Matrix2d& W,
-                      const BoardPoints& p_in_world)
+  PinholeBoardFunctor(const BoardPixels& z, const Eigen::Matrix2d& W, const BoardPoints& p_in_world)
       : z_(z), W_(W), p_in_world_(p_in_world) {}
 
   template <typename T>

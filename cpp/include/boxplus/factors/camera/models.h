@@ -95,8 +95,7 @@ auto WithCameraModel(const std::string& name, F&& f) {
 // x2world), cam_from_rig takes it to this camera (the identity, fixed, for a
 // single camera). Poses [p, q(x,y,z,w)]: b_from_a maps a-coordinates to b.
 template <typename T>
-void ChainToCam(const T* world_from_rig, const T* cam_from_rig, const T* p_in_world,
-                T* p_in_cam) {
+void ChainToCam(const T* world_from_rig, const T* cam_from_rig, const T* p_in_world, T* p_in_cam) {
   const T d[3] = {p_in_world[0] - world_from_rig[0], p_in_world[1] - world_from_rig[1],
                   p_in_world[2] - world_from_rig[2]};
   T rig_from_world_q[4], p_in_rig[3];

@@ -56,7 +56,8 @@ class PinholePointFunctor {
   static std::shared_ptr<ceres::CostFunction> Create(const Eigen::Vector2d& z,
                                                      const Eigen::Matrix2d& W,
                                                      const Eigen::Vector3d& p_in_world) {
-    return std::make_shared<ceres::AutoDiffCostFunction<PinholePointFunctor, 2, Model::kSize, 7, 7>>(
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<PinholePointFunctor, 2, Model::kSize, 7, 7>>(
         new PinholePointFunctor(z, W, p_in_world));
   }
 

@@ -42,9 +42,9 @@ namespace kinematics {
 
 // r = W (π(k, cam_from_rig · base_from_rig⁻¹ · base_from_hand · p_in_hand) − z).
 template <class Model, typename T>
-void MarkerResidual(const T* k, const T* base_from_rig, const T* p_in_hand,
-                    const T* cam_from_rig, const T* base_from_hand, const double* z,
-                    const Eigen::Matrix2d& W, T* residual) {
+void MarkerResidual(const T* k, const T* base_from_rig, const T* p_in_hand, const T* cam_from_rig,
+                    const T* base_from_hand, const double* z, const Eigen::Matrix2d& W,
+                    T* residual) {
   T p_in_base[3], p_in_cam[3];
   QuatRotatePoint(base_from_hand + 3, p_in_hand, p_in_base);
   for (int i = 0; i < 3; ++i) p_in_base[i] += base_from_hand[i];
@@ -74,8 +74,8 @@ class KnownKinematicsMarkerFunctor {
   static std::shared_ptr<ceres::CostFunction> Create(
       const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
       const Eigen::Matrix<double, 7, 1>& base_from_hand) {
-    return std::make_shared<ceres::AutoDiffCostFunction<KnownKinematicsMarkerFunctor, 2,
-                                                        Model::kSize, 7, 3, 7>>(
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<KnownKinematicsMarkerFunctor, 2, Model::kSize, 7, 3, 7>>(
         new KnownKinematicsMarkerFunctor(z, W, base_from_hand));
   }
 
@@ -88,10 +88,13 @@ class KnownKinematicsMarkerFunctor {
 template <class Model>
 class DHMarkerFunctor {
  public:
-  DHMarkerFunctor(const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
-                  const Eigen::VectorXd& joints, const Eigen::Matrix<double, 7, 1>& base_from_chain,
+  DHMarkerFunctor(const Eigen::Vector2d& z, const Eigen::Matrix2d& W, const Eigen::VectorXd& joints,
+                  const Eigen::Matrix<double, 7, 1>& base_from_chain,
                   const Eigen::Matrix<double, 7, 1>& flange_from_hand)
-      : z_(z), W_(W), q_(joints), base_from_chain_(base_from_chain),
+      : z_(z),
+        W_(W),
+        q_(joints),
+        base_from_chain_(base_from_chain),
         flange_from_hand_(flange_from_hand) {}
 
   // parameters: k, base_from_rig, p_in_hand, cam_from_rig, dh

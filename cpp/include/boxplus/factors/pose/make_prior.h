@@ -20,7 +20,6 @@ namespace boxplus {
 
 std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
                                                const Eigen::VectorXd& z_ambient,
-                                               const NoiseModel& noise,
-                                               const std::string& what);
+                                               const NoiseModel& noise, const std::string& what);
 
 }  // namespace boxplus

@@ -19,8 +19,7 @@ class PriorFunctor {
  public:
   using Ambient = Eigen::Matrix<double, Ops::kAmbient, 1>;
   using Weight = Eigen::Matrix<double, Ops::kTangent, Ops::kTangent>;
-  PriorFunctor(const Ambient& z, const Weight& sqrt_info)
-      : z_(z), sqrt_info_(sqrt_info) {}
+  PriorFunctor(const Ambient& z, const Weight& sqrt_info) : z_(z), sqrt_info_(sqrt_info) {}
 
   template <typename T>
   bool operator()(const T* x, T* residual) const {
@@ -33,8 +32,7 @@ class PriorFunctor {
     return true;
   }
 
-  static std::shared_ptr<ceres::CostFunction> Create(const Ambient& z,
-                                                     const Weight& sqrt_info) {
+  static std::shared_ptr<ceres::CostFunction> Create(const Ambient& z, const Weight& sqrt_info) {
     return std::make_shared<
         ceres::AutoDiffCostFunction<PriorFunctor, Ops::kTangent, Ops::kAmbient>>(
         new PriorFunctor(z, sqrt_info));

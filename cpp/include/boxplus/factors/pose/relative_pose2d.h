@@ -7,12 +7,11 @@
 //   Δ = z⁻¹ · (x_i⁻¹ · x_j)
 //   e = [t_Δ, θ_Δ] = [R_zᵀ (R_iᵀ (p_j − p_i) − t_z),  wrap(θ_j − θ_i − θ_z)]
 // Residual r = W e with W the noise's whitening (3×3, order [x, y, θ]; for
-// NoiseModel::Information(Ω) WᵀW = Ω, Ω as g2o files store it); ½‖r‖² = ½ eᵀΩe, so Σ‖r‖² is g2o's chi2.
-// Blocks: x_i (3), x_j (3). kG2o: analytic Jacobians (tested against
-// autodiff and central differences; SE2's ⊞ has an identity Jacobian, so
-// ambient and tangent Jacobians coincide); kLog: autodiff. kSESync is not an
-// error of Δ: the factories return MakeRelativePose2DSESync (6 residuals,
-// relative_pose_sesync.h), and RelativePose2DError rejects it.
+// NoiseModel::Information(Ω) WᵀW = Ω, Ω as g2o files store it); ½‖r‖² = ½ eᵀΩe, so Σ‖r‖² is g2o's
+// chi2. Blocks: x_i (3), x_j (3). kG2o: analytic Jacobians (tested against autodiff and central
+// differences; SE2's ⊞ has an identity Jacobian, so ambient and tangent Jacobians coincide); kLog:
+// autodiff. kSESync is not an error of Δ: the factories return MakeRelativePose2DSESync (6
+// residuals, relative_pose_sesync.h), and RelativePose2DError rejects it.
 #pragma once
 
 #include <memory>
@@ -21,8 +20,8 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/errors.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/manifolds/rotation_math.h"
 #include "boxplus/noise.h"
 
@@ -40,7 +39,7 @@ void RelativePose2DError(const T* xi, const T* xj, const double* z, T* e,
   using std::sin;
   const T ci = cos(xi[2]), si = sin(xi[2]);
   const T dx = xj[0] - xi[0], dy = xj[1] - xi[1];
-  const T tx = ci * dx + si * dy - z[0];   // R_iᵀ(p_j − p_i) − t_z
+  const T tx = ci * dx + si * dy - z[0];  // R_iᵀ(p_j − p_i) − t_z
   const T ty = -si * dx + ci * dy - z[1];
   const double cz = std::cos(z[2]), sz = std::sin(z[2]);
   e[0] = cz * tx + sz * ty;

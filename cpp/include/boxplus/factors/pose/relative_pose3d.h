@@ -16,10 +16,9 @@
 //           tangent [ω, u] and permutes the file's information matrix; here e
 //           is reordered instead, so the file's Ω applies unchanged.
 // Residual r = W e with W the noise's whitening (6×6, order [x, y, z, rx, ry,
-// rz]; for NoiseModel::Information(Ω) WᵀW = Ω, Ω as stored in g2o files); Σ‖r‖² is the chi2 of the convention (g2o's chi2, or 2× GTSAM's
-// graph.error()).
-// Blocks: x_i (7), x_j (7). kG2o has analytic Jacobians: the tangent
-// Jacobian J_t (6×6) is returned in ambient form J_t·4Qᵀ for the rotation
+// rz]; for NoiseModel::Information(Ω) WᵀW = Ω, Ω as stored in g2o files); Σ‖r‖² is the chi2 of the
+// convention (g2o's chi2, or 2× GTSAM's graph.error()). Blocks: x_i (7), x_j (7). kG2o has analytic
+// Jacobians: the tangent Jacobian J_t (6×6) is returned in ambient form J_t·4Qᵀ for the rotation
 // columns, Q = ∂(q⊗exp(δ))/∂δ (4×3, QᵀQ = I/4), so that Ceres' product with
 // the manifold's PlusJacobian gives back exactly J_t. kLog uses autodiff.
 // kSESync is not an error of Δ: the factories return MakeRelativePose3DSESync
@@ -34,8 +33,8 @@
 
 #include <Eigen/Core>
 
-#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/errors.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/manifolds/rotation_math.h"
 #include "boxplus/noise.h"
 
@@ -43,8 +42,7 @@ namespace boxplus {
 
 // t_Δ and q_Δ of Δ = z⁻¹ (x_i⁻¹ x_j) for any scalar type.
 template <typename T>
-void RelativePose3DDelta(const T* xi, const T* xj, const double* z, T* t_delta,
-                         T* q_delta) {
+void RelativePose3DDelta(const T* xi, const T* xj, const double* z, T* t_delta, T* q_delta) {
   T qi_inv[4], dp[3], tij[3], qij[4], zq_inv[4], tz[3];
   QuatConjugate(xi + 3, qi_inv);
   for (int k = 0; k < 3; ++k) dp[k] = xj[k] - xi[k];
@@ -58,8 +56,8 @@ void RelativePose3DDelta(const T* xi, const T* xj, const double* z, T* t_delta,
 }
 
 template <typename T>
-void RelativePose3DError(const T* xi, const T* xj, const double* z,
-                         PoseErrorConvention convention, T* e) {
+void RelativePose3DError(const T* xi, const T* xj, const double* z, PoseErrorConvention convention,
+                         T* e) {
   // SE-Sync's objective is not an error of Δ (relative_pose_sesync.h).
   BOXPLUS_CHECK(convention != PoseErrorConvention::kSESync,
                 "RelativePose3DError: the sesync convention has its own residual "
@@ -88,8 +86,7 @@ void RelativePose3DError(const T* xi, const T* xj, const double* z,
     const T th = sqrt(th2);
     c = (T(1.0) - th / (T(2.0) * tan(th / T(2.0)))) / th2;
   }
-  const T wt[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2],
-                   w[0] * t[1] - w[1] * t[0]};
+  const T wt[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2], w[0] * t[1] - w[1] * t[0]};
   const T wwt[3] = {w[1] * wt[2] - w[2] * wt[1], w[2] * wt[0] - w[0] * wt[2],
                     w[0] * wt[1] - w[1] * wt[0]};
   for (int k = 0; k < 3; ++k) {
@@ -105,7 +102,6 @@ std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(
     PoseErrorConvention convention = PoseErrorConvention::kG2o);
 // Autodiff in either convention (for tests and comparisons).
 std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise,
-    PoseErrorConvention convention);
+    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise, PoseErrorConvention convention);
 
 }  // namespace boxplus

@@ -93,7 +93,7 @@ void RelativePose3DSESyncResidual(const T* xi, const T* xj, const double* z,
 // residual is not W e: register it with a unit NoiseModel.
 std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vector3d& z,
                                                               const NoiseModel& noise);
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise);
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(const Eigen::Matrix<double, 7, 1>& z,
+                                                              const NoiseModel& noise);
 
 }  // namespace boxplus
