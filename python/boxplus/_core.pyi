@@ -934,7 +934,7 @@ class Problem:
         """
     def add_point(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_world_id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss = None) -> int:
         """
-        3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/point.h.
+        3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/point.h.
         """
     def add_prior(self, id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, name: str = '', loss: Loss = None) -> int:
         """
@@ -942,7 +942,7 @@ class Problem:
         """
     def add_relative_pose(self, world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, name: str = '', loss: Loss = None) -> int:
         """
-        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/relative_pose.h.
+        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/pose/relative_pose.h.
         """
     def add_residual_cache(self, cache: ResidualCache) -> None:
         """

@@ -62,9 +62,9 @@ def read_g2o_arrays(path):
                 order.append(int(t[1]))
             elif t[0] == "EDGE_SE2":
                 dim = 2
-                z = [float(x) for x in t[3:12]]
-                z[2] = _angle(z[2])
-                edges.append((int(t[1]), int(t[2]), z))
+                meas = [float(x) for x in t[3:12]]
+                meas[2] = _angle(meas[2])
+                edges.append((int(t[1]), int(t[2]), meas))
             elif t[0] == "EDGE_SE3:QUAT":
                 dim = 3
                 edges.append((int(t[1]), int(t[2]), [float(x) for x in t[3:33]]))
