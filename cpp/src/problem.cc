@@ -14,6 +14,7 @@
 #include "manifold_domain.h"
 #include "solver/ceres_trust_region.h"
 #include "solver/gauss_newton_line_search.h"
+#include "solver/gauss_newton_with_fallback.h"
 
 namespace boxplus {
 
@@ -285,12 +286,18 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
     out.usable = true;
     return out;
   }
-  if (options.method == Method::kGaussNewtonLineSearch) {
-    out = SolveByLineSearch(options);
-  } else {
+  auto trust_region = [this](const SolverOptions& o) {
     std::vector<internal::LsqBlock> blocks;
     for (const auto& v : vars_) blocks.push_back({v->data.get(), v->manifold.get(), v->fixed});
-    out = internal::SolveTrustRegion(problem_.get(), blocks, options);
+    return internal::SolveTrustRegion(problem_.get(), blocks, o);
+  };
+  if (options.method == Method::kGaussNewtonLineSearch) {
+    out = SolveByLineSearch(options);
+  } else if (options.method == Method::kGaussNewtonFallback) {
+    out = internal::SolveGaussNewtonWithFallback(
+        options, [this](const SolverOptions& o) { return SolveByLineSearch(o); }, trust_region);
+  } else {
+    out = trust_region(options);
   }
   // Ceres' LM "converges" from an infinite cost (residuals too large to
   // square) to an infinite cost; say which measurement is at fault.

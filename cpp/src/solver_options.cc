@@ -17,7 +17,7 @@ std::string Lower(std::string s) {
 }  // namespace
 
 const std::vector<std::string>& MethodNames() {
-  static const std::vector<std::string> names = {"lm", "gn", "gn_ls", "dogleg"};
+  static const std::vector<std::string> names = {"lm", "gn", "gn_ls", "dogleg", "gn_lm"};
   return names;
 }
 
@@ -27,7 +27,8 @@ Method ParseMethod(const std::string& name) {
   if (n == "gn" || n == "gauss_newton") return Method::kGaussNewton;
   if (n == "gn_ls" || n == "gauss_newton_line_search") return Method::kGaussNewtonLineSearch;
   if (n == "dogleg") return Method::kDogleg;
-  throw Error("unknown method '" + name + "' (expected lm, gn, gn_ls or dogleg)");
+  if (n == "gn_lm" || n == "auto") return Method::kGaussNewtonFallback;
+  throw Error("unknown method '" + name + "' (expected lm, gn, gn_ls, dogleg or gn_lm/auto)");
 }
 
 std::string MethodName(Method method) {
@@ -40,6 +41,8 @@ std::string MethodName(Method method) {
       return "gn_ls";
     case Method::kDogleg:
       return "dogleg";
+    case Method::kGaussNewtonFallback:
+      return "gn_lm";
   }
   return "?";
 }

@@ -10,38 +10,12 @@
 #include "manifold_handle.h"
 #include "pending_error.h"
 #include "python_manifold.h"
+#include "solve_from_python.h"
 #include "solver.h"
 
 namespace py = pybind11;
 
 namespace boxplus::python {
-namespace {
-
-// Raises, before Ceres sees it, the error a Python manifold's ⊞ would give
-// at variable id's current value (a failing ⊞ inside Ceres would abort).
-void ValidatePythonManifold(const Problem& p, int id, const std::string& what) {
-  if (const auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
-    pm->Validate(p.value(id), what);
-  }
-}
-
-std::string VariableWhat(const Problem& p, int id) {
-  const std::string& name = p.variable_name(id);
-  return "variable " + (name.empty() ? std::to_string(id) : "'" + name + "'");
-}
-
-// Whether a callback's return value asks to stop; None and booleans only.
-bool CallbackContinues(const py::object& r) {
-  if (r.is_none()) return true;
-  const std::string type = py::str(py::type::of(r).attr("__name__"));
-  if (py::isinstance<py::bool_>(r) || type == "bool_" || type == "bool")
-    return r.cast<bool>();  // numpy bools too
-  throw py::type_error("the solve callback must return None, True or False, got " + type + " " +
-                       std::string(py::repr(r)).substr(0, 80));
-}
-
-}  // namespace
-
 void RegisterProblem(py::module_& m) {
   py::class_<Problem>(m, "Problem", R"doc(
 The C++ least-squares problem: variables on manifolds and whitened residuals.
@@ -112,58 +86,8 @@ The public, friendlier front is boxplus.OptimizationProblem.
           "solve",
           [](Problem& p, const py::object& options, const py::object& callback,
              const py::kwargs& overrides) {
-            SolverOptions o = MakeSolverOptions(options, overrides);
-            if (!callback.is_none() && !PyCallable_Check(callback.ptr())) {
-              throw py::type_error("callback must be callable, got " +
-                                   std::string(py::str(py::type::of(callback).attr("__name__"))));
-            }
-            for (int id = 0; id < p.num_variables(); ++id) {
-              if (!p.IsFixed(id)) ValidatePythonManifold(p, id, VariableWhat(p, id));
-            }
-            // Python errors raised inside Ceres (measurement functions,
-            // manifolds, the callback) land in this solve's slot and are
-            // re-raised after Ceres has returned; Ctrl-C only stops the solve.
-            ErrorScope scope;
-            ErrorSlot& slot = scope.slot();
-            o.on_iteration = [&](const IterationInfo& info) {
-              py::gil_scoped_acquire gil;
-              if (slot.Has()) return false;
-              if (PyErr_CheckSignals() != 0) {
-                if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
-                  PyErr_Clear();
-                  return false;
-                }
-                slot.Store(py::error_already_set());
-                return false;
-              }
-              if (callback.is_none()) return true;
-              try {
-                return CallbackContinues(callback(info));
-              } catch (py::error_already_set& e) {
-                slot.Store(std::move(e));
-              } catch (const py::builtin_exception& e) {
-                e.set_error();
-                slot.Store(py::error_already_set());
-              }
-              return false;
-            };
-            SolveSummary s;
-            try {
-              py::gil_scoped_release release;
-              s = p.Solve(o);
-            } catch (const std::exception&) {
-              if (auto e = slot.Take()) throw std::move(*e);
-              throw;
-            }
-            std::unique_ptr<py::error_already_set> pending = slot.Take();
-            if (pending && pending->matches(PyExc_KeyboardInterrupt)) {
-              // Ctrl-C inside a Python measurement: keep the estimate.
-              s.termination = "interrupted";
-              s.usable = true;
-              pending.reset();
-            }
-            if (pending) throw std::move(*pending);
-            return s;
+            return SolveFromPython(p, options, callback, overrides,
+                                   [&p](const SolverOptions& o) { return p.Solve(o); });
           },
           py::arg("options") = py::none(), py::arg("callback") = py::none(),
           R"doc(

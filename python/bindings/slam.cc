@@ -12,6 +12,7 @@
 #include "boxplus/problem.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/slam/pose_graph.h"
+#include "solve_from_python.h"
 
 namespace py = pybind11;
 
@@ -77,6 +78,7 @@ void RegisterSlam(py::module_& m) {
       [] {
         const SolverOptions o = slam::DefaultSolverOptions();
         py::dict d;
+        d["method"] = MethodName(o.method);
         d["initial_trust_region_radius"] = o.initial_trust_region_radius;
         d["damping"] = o.damping == Damping::kLevenberg ? "levenberg" : "marquardt";
         d["jacobi_scaling"] = o.jacobi_scaling;
@@ -84,17 +86,10 @@ void RegisterSlam(py::module_& m) {
             o.use_nonmonotonic_steps ? o.max_consecutive_nonmonotonic_steps : 0;
         return d;
       },
-      "The trust-region settings boxplus uses for pose graphs "
+      "The solver settings boxplus uses for pose graphs "
       "(boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.");
 
-  m.def(
-      "pose_graph_default_method",
-      [](int dimension) {
-        return slam::DefaultMethod(dimension) == Method::kDogleg ? "dogleg" : "lm";
-      },
-      py::arg("dimension"),
-      "The measured solver strategy for pose graphs of this dimension "
-      "(boxplus::slam::DefaultMethod): 'dogleg' for 2D, 'lm' for 3D.");
+  m.attr("pose_graph_implausible_chi2_per_dof") = slam::kImplausibleChi2PerDof;
 
   py::class_<io::ReadReport>(m, "ReadReport", "What the g2o reader counted.")
       .def_readonly("lines", &io::ReadReport::lines)
@@ -108,8 +103,9 @@ void RegisterSlam(py::module_& m) {
 What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
 (``unknown_skipped``, ``unknown_tags``, ``repaired_information``,
 ``repaired_lines``, ``lines``), its ``warnings`` ("" if none),
-``estimates_from_file`` (False: no VERTEX lines, initialised by spanning tree)
-and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
+``estimates_from_file`` (False: no VERTEX lines, initialised by spanning tree),
+``start`` (the start the solve begins from: "file", "spanning-tree" or
+"chordal"; what init="best" chose) and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
 )doc")
       .def_property_readonly("lines", [](const slam::LoadReport& r) { return r.read.lines; })
       .def_property_readonly("unknown_skipped",
@@ -122,6 +118,7 @@ and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
                              [](const slam::LoadReport& r) { return r.read.repaired_lines; })
       .def_readonly("warnings", &slam::LoadReport::warnings)
       .def_readonly("estimates_from_file", &slam::LoadReport::estimates_from_file)
+      .def_readonly("start", &slam::LoadReport::start)
       .def_readonly("read_s", &slam::LoadReport::read_s)
       .def_readonly("init_s", &slam::LoadReport::init_s)
       .def_readonly("build_s", &slam::LoadReport::build_s)
@@ -129,7 +126,8 @@ and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
         return "LoadReport(lines=" + std::to_string(r.read.lines) +
                ", unknown_skipped=" + std::to_string(r.read.unknown_skipped) +
                ", repaired_information=" + std::to_string(r.read.repaired_information) +
-               ", estimates_from_file=" + (r.estimates_from_file ? "True" : "False") + ")";
+               ", estimates_from_file=" + (r.estimates_from_file ? "True" : "False") + ", start='" +
+               r.start + "')";
       });
 
   py::class_<PoseGraph>(m, "PoseGraph", R"doc(
@@ -219,6 +217,21 @@ measurement id. kind: 'SE2', 'SE3' (measurement [t, qx, qy, qz, qw]), 'SE2_XY',
 symmetric information matrix in the error's order. The call is checked
 completely first: one that raises leaves the graph unchanged.
 )doc")
+      .def(
+          "solve",
+          [](PoseGraph& pg, const py::object& options, const py::object& callback,
+             const py::kwargs& overrides) {
+            return SolveFromPython(pg.problem(), options, callback, overrides,
+                                   [&pg](const SolverOptions& o) { return pg.Solve(o); });
+          },
+          py::arg("options") = py::none(), py::arg("callback") = py::none(),
+          "Solves in place (boxplus::slam::PoseGraph::Solve: from a second start too when "
+          "the solution is implausible, see chi2_per_dof); the arguments of Problem.solve.")
+      .def("chi2_per_dof", &PoseGraph::Chi2PerDof,
+           "χ² / (residuals − free tangent dimensions) at the current values: ≈ 1 for a graph "
+           "whose information matrices fit its errors; NaN without degrees of freedom.")
+      .def_property_readonly("has_second_start", &PoseGraph::has_second_start,
+                             "Whether the next solve may also start from the file's estimate.")
       .def(
           "chi2",
           [](const PoseGraph& pg, const std::string& convention) {

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_default_method', 'pose_graph_solver_defaults', 'progress_header']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1058,8 +1058,9 @@ class LoadReport:
     What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
     (``unknown_skipped``, ``unknown_tags``, ``repaired_information``,
     ``repaired_lines``, ``lines``), its ``warnings`` ("" if none),
-    ``estimates_from_file`` (False: no VERTEX lines, initialised by spanning tree)
-    and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
+    ``estimates_from_file`` (False: no VERTEX lines, initialised by spanning tree),
+    ``start`` (the start the solve begins from: "file", "spanning-tree" or
+    "chordal"; what init="best" chose) and the seconds of the three steps (``read_s``, ``init_s``, ``build_s``).
     """
     def __repr__(self) -> str:
         ...
@@ -1083,6 +1084,9 @@ class LoadReport:
         ...
     @property
     def repaired_lines(self) -> list[int]:
+        ...
+    @property
+    def start(self) -> str:
         ...
     @property
     def unknown_skipped(self) -> int:
@@ -1123,6 +1127,10 @@ class PoseGraph:
         """
         Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log' or 'sesync'; default: the graph's convention).
         """
+    def chi2_per_dof(self) -> float:
+        """
+        χ² / (residuals − free tangent dimensions) at the current values: ≈ 1 for a graph whose information matrices fit its errors; NaN without degrees of freedom.
+        """
     def fix(self, vertex_id: typing.SupportsInt | typing.SupportsIndex, fixed: bool = True) -> None:
         ...
     def landmarks(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
@@ -1136,6 +1144,10 @@ class PoseGraph:
     def save(self, path: str) -> None:
         """
         Writes the graph with the current values (file's ids, order and tags).
+        """
+    def solve(self, options: typing.Any = None, callback: typing.Any = None, **kwargs) -> SolveSummary:
+        """
+        Solves in place (boxplus::slam::PoseGraph::Solve: from a second start too when the solution is implausible, see chi2_per_dof); the arguments of Problem.solve.
         """
     def to_string(self) -> str:
         """
@@ -1158,6 +1170,11 @@ class PoseGraph:
     @property
     def gauge_vertex(self) -> int:
         ...
+    @property
+    def has_second_start(self) -> bool:
+        """
+        Whether the next solve may also start from the file's estimate.
+        """
     @property
     def num_edges(self) -> int:
         ...
@@ -1206,16 +1223,13 @@ def make_python_manifold(ambient_size: typing.SupportsInt | typing.SupportsIndex
     """
     A manifold whose ⊞ (plus(x, δ)) and ⊟ (minus(y, x)) are Python functions on ambient vectors.
     """
-def pose_graph_default_method(dimension: typing.SupportsInt | typing.SupportsIndex) -> str:
-    """
-    The measured solver strategy for pose graphs of this dimension (boxplus::slam::DefaultMethod): 'dogleg' for 2D, 'lm' for 3D.
-    """
 def pose_graph_solver_defaults() -> dict:
     """
-    The trust-region settings boxplus uses for pose graphs (boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.
+    The solver settings boxplus uses for pose graphs (boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.
     """
 def progress_header() -> str:
     """
     The column titles of format_progress lines.
     """
 __version__: str = '0.1.0'
+pose_graph_implausible_chi2_per_dof: float = 10.0

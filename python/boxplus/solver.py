@@ -22,13 +22,17 @@ SolveSummary = _core.SolveSummary
 
 
 def run(
-    problem: _core.Problem,
+    problem: Any,
     options: SolverOptions | None = None,
     callback: Callable[[IterationInfo], Any] | None = None,
     verbose: bool = False,
     **overrides: Any,
 ) -> SolveSummary:
     """Solves ``problem`` with ``options`` (fields overridden by keyword).
+
+    ``problem`` is anything with the C++ ``solve(options, callback,
+    **overrides)`` of :class:`boxplus._core.Problem` (also the C++ pose graph,
+    whose solve may restart from a second start).
 
     ``verbose`` prints one line per iteration and a summary with Python's
     ``print`` (C++ would write to stderr, which notebooks and

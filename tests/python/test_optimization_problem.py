@@ -210,7 +210,7 @@ def test_residuals_and_rms_are_grouped_by_function():
 # ---- solver options, losses, mixing ----------------------------------------------------
 
 
-@pytest.mark.parametrize("method", ["lm", "gn", "gn_ls", "dogleg"])
+@pytest.mark.parametrize("method", ["lm", "gn", "gn_ls", "dogleg", "gn_lm"])
 def test_methods_reach_the_same_optimum(method):
     p = bp.OptimizationProblem()
     x = p.add_random_var(bp.SO3())

@@ -33,7 +33,8 @@ TIGHT = dict(function_tolerance=1e-12, gradient_tolerance=1e-14, parameter_toler
 @pytest.mark.parametrize("name", sorted(PEER_BEST))
 @pytest.mark.parametrize("convention", ["g2o", "log"])
 def test_reaches_the_best_peer_objective(name, convention):
-    g = slam.load_g2o(DATA / f"{name}.g2o", convention=convention)
+    # boxplus-g2o's default strategy: the better start, then the default solver.
+    g = slam.load_g2o(DATA / f"{name}.g2o", convention=convention, init="best")
     data = g2o_ref.read_g2o_arrays(DATA / f"{name}.g2o")
     order = [g.vertex_ids.index(i) for i in data["ids"]]
     s = g.solve(**TIGHT)
@@ -220,14 +221,15 @@ def test_gtsam_agrees_at_our_solution():
 
 
 def test_pose_graph_solver_defaults_start_like_gauss_newton():
-    # The measured pose-graph default (LM from a huge radius, λI damping,
-    # nonmonotonic steps) reaches the peers' optimum in far fewer iterations
-    # than Ceres' own LM defaults, which stay available by keyword.
-    assert slam.SOLVER_DEFAULTS == {"initial_trust_region_radius": 1e16, "damping": "levenberg",
-                                    "jacobi_scaling": False, "nonmonotonic_steps": 5}
+    # The pose-graph default (Gauss–Newton with a line search, then LM from
+    # λI damping, nonmonotonic steps) reaches the peers' optimum in far fewer
+    # iterations than Ceres' own LM defaults, which stay available by keyword.
+    assert slam.SOLVER_DEFAULTS == {"method": "gn_lm", "initial_trust_region_radius": 1e16,
+                                    "damping": "levenberg", "jacobi_scaling": False,
+                                    "nonmonotonic_steps": 5}
     its = {}
     for name, kw in (("default", {}),
-                     ("ceres", dict(initial_trust_region_radius=1e4, damping="marquardt",
+                     ("ceres", dict(method="lm", initial_trust_region_radius=1e4, damping="marquardt",
                                     jacobi_scaling=True, nonmonotonic_steps=0))):
         g = slam.load_g2o(DATA / "CSAIL.g2o")
         s = g.solve(**kw)
@@ -278,11 +280,23 @@ def test_example_slam_pose_graph(tmp_path):
     assert res["png"].stat().st_size > 10_000
 
 
-def test_default_strategy_is_chosen_by_dimension():
-    assert slam.load_g2o(DATA / "CSAIL.g2o").dimension == 2
-    assert bp._core.pose_graph_default_method(2) == "dogleg"
-    assert bp._core.pose_graph_default_method(3) == "lm"
+def test_default_strategy_starts_from_the_better_start(tmp_path):
+    assert bp.slam.SOLVER_DEFAULTS["method"] == "gn_lm"
     # MIT from its file estimate (chi2 4.4e9): LM and Gauss–Newton stop at 770.66.
-    g = slam.load_g2o(DATA / "MIT.g2o")
+    g = slam.load_g2o(DATA / "MIT.g2o", init="file")
+    assert g.report.start == "file"
     g.solve(method="lm")
     assert g.chi2() == pytest.approx(770.6635019, rel=1e-6)
+    # The best start is the chordal one there (its chi2 is lower than the
+    # file's), and the default solver from it goes below the lowest optimum
+    # any solver finds from the file (476.30, dogleg).
+    g = slam.load_g2o(DATA / "MIT.g2o", init="best")
+    assert g.report.start == "chordal"
+    assert g.solve().usable
+    assert g.chi2() <= 476.30 * (1 + 1e-5)
+    # A file that holds an optimum keeps it: the file's start is better.
+    g.save_g2o(tmp_path / "mit_opt.g2o")
+    again = slam.load_g2o(tmp_path / "mit_opt.g2o", init="best")
+    assert again.report.start == "file"
+    assert again.chi2() == pytest.approx(g.chi2(), rel=1e-9)
+

@@ -126,7 +126,8 @@ def test_toro_euler_angles_round_trip_through_the_cli(tmp_path, pitch):
             f"EDGE3 0 1 1 2 3 -0.7 {pitch!r} 1.1 {info}\n")
     p = _write(tmp_path, text, "toro.graph")
     out = tmp_path / "out.graph"
-    r = subprocess.run([_cli(), "-i", "0", "-q", "-o", str(out), str(p)], capture_output=True,
+    r = subprocess.run([_cli(), "-i", "0", "--init", "file", "-q", "-o", str(out), str(p)],
+                       capture_output=True,
                        text=True)
     assert r.returncode == 0, r.stderr
     a, b = slam.load_g2o(p), slam.load_g2o(out)

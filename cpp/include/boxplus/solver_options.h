@@ -14,7 +14,17 @@ namespace boxplus {
 // region). kGaussNewtonLineSearch is boxplus' own Gauss–Newton with a
 // backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, sparse
 // Cholesky by Eigen or CHOLMOD; single-threaded; robust losses by reweighting).
-enum class Method { kLevenbergMarquardt, kGaussNewton, kDogleg, kGaussNewtonLineSearch };
+// kGaussNewtonFallback runs kGaussNewtonLineSearch while its full steps are
+// accepted and switches to kLevenbergMarquardt when the line search has to
+// shorten them (see src/solver/gauss_newton_with_fallback.h): the pose-graph
+// default, chosen on the generated suite.
+enum class Method {
+  kLevenbergMarquardt,
+  kGaussNewton,
+  kDogleg,
+  kGaussNewtonLineSearch,
+  kGaussNewtonFallback
+};
 
 // The damping matrix D of a Levenberg–Marquardt step (JᵀJ + D/μ) δ = −Jᵀr,
 // μ the trust-region radius:
@@ -74,11 +84,12 @@ struct SolveSummary {
   std::string report;       // Ceres' full report
 };
 
-// Names on input (case-insensitive): "lm" / "levenberg_marquardt", "gn" /
-// "gauss_newton", "gn_ls" / "gn-ls", "dogleg". Throws boxplus::Error naming
+// Names on input (case-insensitive; '-' reads as '_'): "lm" /
+// "levenberg_marquardt", "gn" / "gauss_newton", "gn_ls", "dogleg", "gn_lm" /
+// "auto" (kGaussNewtonFallback). Throws boxplus::Error naming
 // the accepted ones.
 Method ParseMethod(const std::string& name);
-// "lm", "gn", "gn_ls", "dogleg".
+// "lm", "gn", "gn_ls", "dogleg", "gn_lm".
 std::string MethodName(Method method);
 const std::vector<std::string>& MethodNames();
 

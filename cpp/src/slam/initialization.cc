@@ -142,21 +142,64 @@ InitMethod ParseInitMethod(const std::string& name) {
   if (name == "file") return InitMethod::kFile;
   if (name == "spanning-tree" || name == "odometry") return InitMethod::kSpanningTree;
   if (name == "chordal") return InitMethod::kChordal;
-  throw Error("unknown initialisation '" + name + "' (expected file, spanning-tree or chordal)");
+  if (name == "best") return InitMethod::kBest;
+  throw Error("unknown initialisation '" + name +
+              "' (expected file, spanning-tree, chordal or best)");
 }
 
-void Initialize(Graph* g, InitMethod method, int root_id) {
+const char* InitMethodName(InitMethod method) {
   switch (method) {
     case InitMethod::kFile:
-      if (!g->estimates_from_file) InitializeSpanningTree(g, root_id);
-      return;
+      return "file";
+    case InitMethod::kSpanningTree:
+      return "spanning-tree";
+    case InitMethod::kChordal:
+      return "chordal";
+    case InitMethod::kBest:
+      return "best";
+  }
+  return "?";
+}
+
+InitMethod Initialize(Graph* g, InitMethod method, int root_id, const StartObjective& objective,
+                      std::vector<Eigen::VectorXd>* other) {
+  if (other) other->clear();
+  switch (method) {
+    case InitMethod::kFile:
+      if (g->estimates_from_file) return InitMethod::kFile;
+      InitializeSpanningTree(g, root_id);
+      return InitMethod::kSpanningTree;
     case InitMethod::kSpanningTree:
       InitializeSpanningTree(g, root_id);
-      return;
+      return method;
     case InitMethod::kChordal:
       InitializeChordal(g, root_id);
-      return;
+      return method;
+    case InitMethod::kBest:
+      break;
   }
+  BOXPLUS_CHECK(static_cast<bool>(objective), Where(*g),
+                "initialisation 'best' needs an objective to compare starts by");
+  const InitMethod file = Initialize(g, InitMethod::kFile, root_id);
+  std::vector<Eigen::VectorXd> kept(g->vertices.size());
+  for (size_t i = 0; i < kept.size(); ++i) kept[i] = g->vertices[i].estimate;
+  const double at_file = objective(*g);
+  try {
+    InitializeChordal(g, root_id);
+  } catch (const Error&) {
+    // No relaxation to compare with (no pose-pose edge, disconnected, singular).
+    for (size_t i = 0; i < kept.size(); ++i) g->vertices[i].estimate = std::move(kept[i]);
+    return file;
+  }
+  const double at_chordal = objective(*g);
+  // A non-finite objective at the file's start loses; at the chordal one it
+  // loses too (std::isless is false for NaN).
+  if (std::isless(at_chordal, at_file) || (!std::isfinite(at_file) && std::isfinite(at_chordal))) {
+    if (other) *other = std::move(kept);
+    return InitMethod::kChordal;
+  }
+  for (size_t i = 0; i < kept.size(); ++i) g->vertices[i].estimate = std::move(kept[i]);
+  return file;
 }
 
 void InitializeSpanningTree(Graph* g, int root_id) {

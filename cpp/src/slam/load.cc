@@ -19,9 +19,13 @@ std::unique_ptr<PoseGraph> LoadPoseGraph(const std::string& path, const LoadOpti
                 ": no vertex or edge lines (an empty or comment-only file)");
   rep.estimates_from_file = graph.estimates_from_file;
   const auto t1 = Clock::now();
-  Initialize(&graph, options.init);
+  std::vector<Eigen::VectorXd> second_start;
+  rep.start = InitMethodName(Initialize(
+      &graph, options.init, -1, [&](const io::Graph& g) { return Objective(g, options.graph); },
+      &second_start));
   const auto t2 = Clock::now();
   auto pg = std::make_unique<PoseGraph>(std::move(graph), options.graph);
+  pg->set_second_start(std::move(second_start));
   const auto t3 = Clock::now();
   rep.read_s = std::chrono::duration<double>(t1 - t0).count();
   rep.init_s = std::chrono::duration<double>(t2 - t1).count();

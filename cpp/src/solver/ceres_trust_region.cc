@@ -82,6 +82,7 @@ ceres::Solver::Options CeresOptions(const SolverOptions& options) {
       o.max_trust_region_radius = 1e16;
       break;
     case Method::kGaussNewtonLineSearch:
+    case Method::kGaussNewtonFallback:
       throw Error("the line search is not a trust-region method");
   }
   o.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;

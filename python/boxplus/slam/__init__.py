@@ -28,6 +28,6 @@ convention.
 """
 
 from .plot import plot_trajectory
-from .pose_graph import SOLVER_DEFAULTS, PoseGraph, load_g2o, save_g2o
+from .pose_graph import IMPLAUSIBLE_CHI2_PER_DOF, SOLVER_DEFAULTS, PoseGraph, load_g2o, save_g2o
 
-__all__ = ["SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o", "plot_trajectory"]
+__all__ = ["IMPLAUSIBLE_CHI2_PER_DOF", "SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o", "plot_trajectory"]

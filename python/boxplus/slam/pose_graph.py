@@ -8,15 +8,15 @@ from typing import Any, Callable, SupportsIndex, SupportsInt, Union
 import numpy as np
 
 from boxplus import _core, solver
-from boxplus._core import pose_graph_default_method as _default_method
+from boxplus._core import pose_graph_implausible_chi2_per_dof as IMPLAUSIBLE_CHI2_PER_DOF
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
 
-__all__ = ["SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o"]
+__all__ = ["IMPLAUSIBLE_CHI2_PER_DOF", "SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o"]
 
 PathType = Union[str, "PathLike[str]"]
 
 
-#: Trust-region settings used by :meth:`PoseGraph.solve` (and ``boxplus-g2o``),
+#: Solver settings used by :meth:`PoseGraph.solve` (and ``boxplus-g2o``),
 #: from C++ ``boxplus::slam::DefaultSolverOptions``.
 SOLVER_DEFAULTS = dict(_solver_defaults())
 
@@ -104,17 +104,18 @@ class PoseGraph(_core.PoseGraph):
         (:func:`boxplus.solver.run`): ``options`` a :class:`boxplus.SolverOptions`,
         any field overridden by keyword, ``callback(info)`` per iteration,
         ``verbose`` prints χ² per iteration. Defaults are those measured best on
-        pose graphs (:data:`SOLVER_DEFAULTS`: LM that starts as Gauss–Newton,
-        λI damping, no Jacobi scaling, up to 5 nonmonotonic steps), and
-        ``method='auto'`` (the default) is the strategy for the graph's
-        dimension (dogleg for 2D, 'lm' for 3D; ``boxplus::slam::DefaultMethod``).
+        pose graphs (:data:`SOLVER_DEFAULTS`, ``boxplus::slam::DefaultSolverOptions``):
+        method ``'gn_lm'`` (alias ``'auto'``), Gauss–Newton with a line search
+        while its full steps hold, then Levenberg–Marquardt; the trust-region
+        fields (λI damping, no Jacobi scaling, up to 5 nonmonotonic steps) are
+        those ``method='lm'`` then uses.
         ``summary.final_chi2`` is the objective (Σ ρ(eᵀΩe)).
         """
         if options is None:
-            overrides = {**SOLVER_DEFAULTS, "method": "auto", **overrides}
-        if overrides.get("method") == "auto":
-            overrides["method"] = _default_method(self.dimension)
-        return solver.run(self.problem, options, callback, verbose, **overrides)
+            overrides = {**SOLVER_DEFAULTS, **overrides}
+        # The C++ PoseGraph.solve (from a second start too when the solution is
+        # implausible; boxplus::slam::PoseGraph::Solve).
+        return solver.run(super(), options, callback, verbose, **overrides)
 
     def chi2(self, convention: str | None = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
@@ -154,10 +155,15 @@ def load_g2o(
     robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
     robust_width : float
         Kernel width on ``sqrt(eᵀΩe)``.
-    init : {'file', 'spanning-tree', 'chordal'}
-        Initial estimate: the file's, composition along a spanning tree, or the
-        chordal rotation relaxation followed by linear translations. Files
-        without vertices always start from the spanning tree.
+    init : {'file', 'best', 'spanning-tree', 'chordal'}
+        Initial estimate: the file's (default: loading reads the file), the
+        better of the file's and the chordal one by the objective (``'best'``,
+        the start ``boxplus-g2o`` uses by default; ``report.start`` says which
+        was chosen, and when it was the chordal one a solution that is
+        implausible, χ²/dof > 10, is also sought from the file's), composition
+        along a spanning tree, or the chordal rotation relaxation followed by
+        linear translations. Files without vertices start from the spanning
+        tree where the file's estimate would be used.
     skip_unknown : bool
         Skip unknown tags (counted in ``report.unknown_tags`` and a warning)
         instead of raising.

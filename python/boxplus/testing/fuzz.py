@@ -302,6 +302,16 @@ def _close(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-7 * max(1.0, abs(a), abs(b))
 
 
+def _well_scaled(d: dict) -> bool:
+    """Whether an oracle evaluation can be compared digit by digit: with
+    information entries beyond 1e15 the rounding of an error (≈ 1e-16 of the
+    coordinates) times Ω exceeds the comparison's tolerance, so two correct
+    evaluations in a different order disagree (a 1e200 entry: 41.8 vs 2.8e168)."""
+    import numpy as np
+
+    return not len(d["info"]) or float(np.max(np.abs(d["info"]))) <= 1e15
+
+
 def _estimates_from_file(g) -> bool:
     rep = g.report
     return rep["estimates_from_file"] if isinstance(rep, dict) else rep.estimates_from_file
@@ -349,7 +359,7 @@ def check_graph(g, path: str, data: bytes, options: dict) -> tuple:
         g.save_g2o(out)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            h = slam.load_g2o(out, convention=options["convention"])
+            h = slam.load_g2o(out, convention=options["convention"], init="file")
         if not _close(h.chi2(), chi):
             return "wrong_load", f"reloaded chi2 {h.chi2()} != {chi}"
         if _oracle_tags(Path(out).read_bytes()) and options["convention"] == "g2o" and g.num_edges:
@@ -357,7 +367,7 @@ def check_graph(g, path: str, data: bytes, options: dict) -> tuple:
             # without vertices gets them sorted by id when saved).
             d = ref.read_g2o_arrays(out)
             r = ref.chi2_g2o(d, d["poses"])
-            if math.isfinite(r) and not _close(r, chi):
+            if math.isfinite(r) and _well_scaled(d) and not _close(r, chi):
                 return "wrong_load", f"chi2 {chi} differs from the numpy evaluation {r}"
     return "ok", ""
 

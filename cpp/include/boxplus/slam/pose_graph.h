@@ -44,22 +44,22 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& edge, const No
 double EdgeChi2(const io::Edge& edge, const double* from, const double* to,
                 PoseErrorConvention convention);
 
-// The solver settings for pose graphs, chosen from measurements on the
-// standard data sets in both conventions (README, SLAM; bench/bench_slam.py):
-// Levenberg–Marquardt that starts as Gauss–Newton (initial trust-region radius
-// 1e16) and damps only after a failed step, with Levenberg's λI damping (as
-// g2o's LM) on the unscaled Jacobian and up to 5 consecutive nonmonotonic
-// steps. Gauss–Newton's iteration counts (4 on parking-garage instead of 29
-// with Ceres' defaults) while keeping LM's safeguard on bad starts (MIT).
-SolverOptions DefaultSolverOptions();
+struct PoseGraphOptions;
+// The objective the pose graph minimises, Σ ρ(eᵀΩe) over the edges (ρ the
+// options' robust loss, identity for "none"; SE-Sync's ‖r‖² in kSESync), at
+// the graph's vertex estimates: what slam::InitMethod::kBest compares by.
+double Objective(const io::Graph& graph, const PoseGraphOptions& options);
 
-// The trust-region strategy for a pose graph of the given dimension (2 or 3),
-// measured on the nine standard data sets from their files' estimates: for 2D
-// graphs Powell's dogleg reaches the lowest objective any solver reaches (MIT,
-// g2o convention: 476.30 against 770.66 for LM and g2o's Gauss–Newton, 526.33
-// for g2o's LM) and equals LM elsewhere; for 3D graphs LM needs fewer
-// iterations (parking-garage 4 vs 30) and ends lower after 100 on torus3D.
-Method DefaultMethod(int dimension);
+// The solver settings for pose graphs (boxplus-g2o's and PoseGraph.solve's
+// defaults), chosen on the generated suite of bench/bench_pose_graph_suite.py
+// (60 graphs: five families, 2D and 3D, 10² to 10⁵ poses, tiny to bignoise,
+// with and without wrong loop closures; README "Pose graphs"), not on the
+// standard files: Gauss–Newton with a line search while its full steps hold,
+// then Levenberg–Marquardt (Method::kGaussNewtonFallback). The trust-region
+// fields (λI damping as g2o's LM, no Jacobi scaling, up to 5 nonmonotonic
+// steps, initial radius 1e16: LM that starts as Gauss–Newton) are those of
+// `-s lm`; the fallback's LM phase starts at radius 1e4.
+SolverOptions DefaultSolverOptions();
 
 struct PoseGraphOptions {
   PoseErrorConvention convention = PoseErrorConvention::kG2o;
@@ -96,7 +96,18 @@ class PoseGraph {
   int AddVertex(const io::Vertex& vertex);
   int AddEdge(const io::Edge& edge);
 
+  // Solves from the current values. If a second start was set (the file's
+  // estimate, when InitMethod::kBest chose the chordal one) and the solution
+  // is statistically implausible — χ²/dof > kImplausibleChi2PerDof, as with
+  // wrong loop closures, which pull the chordal relaxation's start towards
+  // them while odometry is not — the first Solve also solves from the second
+  // start and keeps the lower objective (summary.message says so).
   SolveSummary Solve(const SolverOptions& options = {});
+  void set_second_start(std::vector<Eigen::VectorXd> estimates);
+  bool has_second_start() const { return !second_start_.empty(); }
+  // χ² over its degrees of freedom (residuals − free tangent dimensions) at
+  // the current values; NaN when there are no degrees of freedom.
+  double Chi2PerDof() const;
 
   // Σ eᵀΩe over the graph's edges at the current values (no robust loss).
   double Chi2(PoseErrorConvention convention) const;
@@ -116,6 +127,12 @@ class PoseGraph {
   std::shared_ptr<ceres::LossFunction> loss_;
   int gauge_vertex_ = -1;
   LoadReport load_report_;
+  std::vector<Eigen::VectorXd> second_start_;  // vertex order; empty: none
 };
+
+// χ²/dof above which a pose-graph solution is implausible for its
+// information matrices: a consistent graph has χ²/dof ≈ 1 (the standard files
+// 0.01–0.3, being overconfident), one with 5 % wrong loop closures ≈ 100.
+inline constexpr double kImplausibleChi2PerDof = 10.0;
 
 }  // namespace boxplus::slam
