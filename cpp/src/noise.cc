@@ -40,15 +40,23 @@ Eigen::MatrixXd LowerInverse(const Eigen::MatrixXd& L) {
 
 }  // namespace
 
-NoiseModel::NoiseModel(Form form, Eigen::MatrixXd W, Eigen::MatrixXd W_inv)
-    : form_(form), W_(std::move(W)), W_inv_(std::move(W_inv)) {
-  unit_ = W_.isIdentity(0.0);
+NoiseModel::NoiseModel(Form form, Eigen::MatrixXd W) : form_(form), W_(std::move(W)) {
+  if (W_.isIdentity(0.0)) {
+    shape_ = Shape::kIdentity;
+  } else if (W_.isDiagonal(0.0)) {
+    shape_ = Shape::kDiagonal;
+  } else if (W_.isLowerTriangular(0.0)) {
+    shape_ = Shape::kLower;
+  } else if (W_.isUpperTriangular(0.0)) {
+    shape_ = Shape::kUpper;
+  } else {
+    shape_ = Shape::kGeneral;
+  }
 }
 
 NoiseModel NoiseModel::Unit(int dim) {
   BOXPLUS_CHECK(dim >= 0, "noise: dimension must be >= 0, got ", dim);
-  return NoiseModel(Form::kUnit, Eigen::MatrixXd::Identity(dim, dim),
-                    Eigen::MatrixXd::Identity(dim, dim));
+  return NoiseModel(Form::kUnit, Eigen::MatrixXd::Identity(dim, dim));
 }
 
 NoiseModel NoiseModel::Isotropic(int dim, double sigma, const std::string& what) {
@@ -65,22 +73,21 @@ NoiseModel NoiseModel::Sigmas(const Eigen::VectorXd& sigmas, const std::string& 
   }
   const Eigen::VectorXd w = sigmas.cwiseInverse();
   BOXPLUS_CHECK(w.allFinite(), what, ": a standard deviation is too small (1/σ overflows)");
-  return NoiseModel(Form::kSigmas, w.asDiagonal(), sigmas.asDiagonal());
+  return NoiseModel(Form::kSigmas, w.asDiagonal());
 }
 
 NoiseModel NoiseModel::Covariance(const Eigen::MatrixXd& covariance, const std::string& what) {
   const Eigen::MatrixXd L = CholeskyLower(covariance, what, "covariance");
   Eigen::MatrixXd W = LowerInverse(L);
   BOXPLUS_CHECK(W.allFinite(), what, ": covariance is numerically singular");
-  return NoiseModel(Form::kCovariance, std::move(W), L);
+  return NoiseModel(Form::kCovariance, std::move(W));
 }
 
 NoiseModel NoiseModel::Information(const Eigen::MatrixXd& information, const std::string& what) {
   const Eigen::MatrixXd L = CholeskyLower(information, what, "information matrix");
-  Eigen::MatrixXd U = L.transpose();  // UᵀU = LLᵀ = Ω
-  Eigen::MatrixXd U_inv = LowerInverse(L).transpose();
-  BOXPLUS_CHECK(U_inv.allFinite(), what, ": information matrix is numerically singular");
-  return NoiseModel(Form::kInformation, std::move(U), std::move(U_inv));
+  // U⁻¹ is formed only to refuse an Ω whose un-whitening would overflow.
+  BOXPLUS_CHECK(LowerInverse(L).allFinite(), what, ": information matrix is numerically singular");
+  return NoiseModel(Form::kInformation, L.transpose());  // UᵀU = LLᵀ = Ω
 }
 
 NoiseModel NoiseModel::SqrtInformation(const Eigen::MatrixXd& sqrt_information,
@@ -88,32 +95,75 @@ NoiseModel NoiseModel::SqrtInformation(const Eigen::MatrixXd& sqrt_information,
   CheckSquareFinite(sqrt_information, what, "square-root information");
   Eigen::FullPivLU<Eigen::MatrixXd> lu(sqrt_information);
   BOXPLUS_CHECK(lu.isInvertible(), what, ": square-root information is singular");
-  Eigen::MatrixXd inv = lu.inverse();
-  BOXPLUS_CHECK(inv.allFinite(), what, ": square-root information is numerically singular");
-  return NoiseModel(Form::kSqrtInformation, sqrt_information, std::move(inv));
+  BOXPLUS_CHECK(lu.inverse().allFinite(), what,
+                ": square-root information is numerically singular");
+  return NoiseModel(Form::kSqrtInformation, sqrt_information);
+}
+
+NoiseModel NoiseModel::DiagonalSqrtInformation(const Eigen::VectorXd& w, const std::string& what) {
+  BOXPLUS_CHECK(w.size() > 0, what, ": no square-root information given");
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    BOXPLUS_CHECK(std::isfinite(w[i]) && w[i] > 0, what,
+                  ": square-root information must be positive and finite, got w[", i, "] = ", w[i]);
+  }
+  return NoiseModel(Form::kSqrtInformation, w.asDiagonal());
 }
 
 Eigen::VectorXd NoiseModel::sigmas() const {
-  return W_inv_.rowwise().norm();  // √diag(W⁻¹W⁻ᵀ)
+  return inverse_sqrt_information().rowwise().norm();  // √diag(W⁻¹W⁻ᵀ)
 }
 
-namespace {
-Eigen::VectorXd ApplyBlocks(const Eigen::MatrixXd& M, const Eigen::VectorXd& v, const char* op) {
-  const Eigen::Index d = M.rows();
-  BOXPLUS_CHECK(d > 0 && v.size() % d == 0, "noise: cannot ", op, " a vector of ", v.size(),
-                " entries with a noise model of dimension ", d);
-  Eigen::VectorXd out(v.size());
-  for (Eigen::Index k = 0; k < v.size(); k += d) out.segment(k, d) = M * v.segment(k, d);
-  return out;
+Eigen::MatrixXd NoiseModel::covariance() const {
+  const Eigen::MatrixXd W_inv = inverse_sqrt_information();
+  return W_inv * W_inv.transpose();
 }
-}  // namespace
+
+Eigen::MatrixXd NoiseModel::inverse_sqrt_information() const {
+  Eigen::MatrixXd I = Eigen::MatrixXd::Identity(dim(), dim());
+  UnwhitenBlock(I);
+  return I;
+}
+
+// B ← W⁻¹ B for a matrix B of dim() rows, by the cheapest solve W's shape allows.
+void NoiseModel::UnwhitenBlock(Eigen::Ref<Eigen::MatrixXd> B) const {
+  switch (shape_) {
+    case Shape::kIdentity:
+      return;
+    case Shape::kDiagonal:
+      B.array().colwise() /= W_.diagonal().array();
+      return;
+    case Shape::kLower:
+      W_.triangularView<Eigen::Lower>().solveInPlace(B);
+      return;
+    case Shape::kUpper:
+      W_.triangularView<Eigen::Upper>().solveInPlace(B);
+      return;
+    case Shape::kGeneral:
+      B = W_.fullPivLu().solve(B);
+      return;
+  }
+}
 
 Eigen::VectorXd NoiseModel::Whiten(const Eigen::VectorXd& e) const {
-  return ApplyBlocks(W_, e, "whiten");
+  const Eigen::Index d = CheckBlocks(e.size(), "whiten");
+  Eigen::VectorXd out(e.size());
+  for (Eigen::Index k = 0; k < e.size(); k += d) out.segment(k, d) = W_ * e.segment(k, d);
+  return out;
 }
 
 Eigen::VectorXd NoiseModel::Unwhiten(const Eigen::VectorXd& r) const {
-  return ApplyBlocks(W_inv_, r, "un-whiten");
+  const Eigen::Index d = CheckBlocks(r.size(), "un-whiten");
+  // The blocks as the columns of a d × k matrix: one solve for all of them.
+  Eigen::MatrixXd blocks = Eigen::Map<const Eigen::MatrixXd>(r.data(), d, r.size() / d);
+  UnwhitenBlock(blocks);
+  return Eigen::Map<const Eigen::VectorXd>(blocks.data(), r.size());
+}
+
+Eigen::Index NoiseModel::CheckBlocks(Eigen::Index size, const char* op) const {
+  const Eigen::Index d = W_.rows();
+  BOXPLUS_CHECK(d > 0 && size % d == 0, "noise: cannot ", op, " a vector of ", size,
+                " entries with a noise model of dimension ", d);
+  return d;
 }
 
 std::string NoiseModel::Describe() const {

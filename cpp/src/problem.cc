@@ -32,7 +32,7 @@ struct Problem::Measurement {
   std::shared_ptr<ceres::LossFunction> loss;
   std::vector<int> vars;
   NoiseModel noise;
-  std::string name;
+  std::string name;  // empty: named by the namer or "z<id>" (measurement_name)
   ceres::ResidualBlockId block = nullptr;
 };
 
@@ -245,7 +245,7 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
   m.loss = std::move(loss);
   m.vars = var_ids;
   m.noise = noise;
-  m.name = name.empty() ? "z" + std::to_string(id) : name;
+  m.name = name;
   m.block = problem_->AddResidualBlock(m.cost.get(), m.loss.get(), blocks);
   meas_.push_back(std::move(m));
   return id;
@@ -253,10 +253,17 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
 
 int Problem::num_measurements() const { return static_cast<int>(meas_.size()); }
 
-const std::string& Problem::measurement_name(int id) const {
+std::string Problem::measurement_name(int id) const {
   CheckMeasurement(id);
-  return meas_[id].name;
+  if (!meas_[id].name.empty()) return meas_[id].name;
+  if (namer_) {
+    std::string name = namer_(id);
+    if (!name.empty()) return name;
+  }
+  return "z" + std::to_string(id);
 }
+
+void Problem::SetMeasurementNamer(MeasurementNamer namer) { namer_ = std::move(namer); }
 const std::vector<int>& Problem::measurement_variables(int id) const {
   CheckMeasurement(id);
   return meas_[id].vars;
@@ -340,11 +347,12 @@ SolveSummary Problem::SolveByLineSearch(const SolverOptions& options) {
 std::string Problem::FirstNonFiniteMeasurement() {
   try {
     hooks_->PrepareForEvaluation(false, true);
-    for (const Measurement& m : meas_) {
+    for (int id = 0; id < num_measurements(); ++id) {
+      const Measurement& m = meas_[id];
       std::vector<const double*> blocks;
       for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
       Eigen::VectorXd r(m.cost->num_residuals());
-      const std::string what = "measurement '" + m.name + "'";
+      const std::string what = "measurement '" + measurement_name(id) + "'";
       if (!m.cost->Evaluate(blocks.data(), r.data(), nullptr)) return what + " cannot be evaluated";
       if (!r.allFinite()) return what + " has a non-finite residual";
       if (!std::isfinite(r.squaredNorm())) return what + " has a residual whose square overflows";
@@ -363,8 +371,8 @@ Eigen::VectorXd Problem::Residual(int measurement_id) {
   for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
   hooks_->PrepareForEvaluation(false, true);
   Eigen::VectorXd r(m.cost->num_residuals());
-  BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), r.data(), nullptr), "measurement '", m.name,
-                "': evaluation failed");
+  BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), r.data(), nullptr), "measurement '",
+                measurement_name(measurement_id), "': evaluation failed");
   return r;
 }
 

@@ -5,7 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.h"
-#include "boxplus/factors/pose/make_prior.h"
+#include "boxplus/factors/pose/prior.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 #include "pending_error.h"
@@ -67,14 +67,14 @@ The public, friendlier front is boxplus.OptimizationProblem.
       .def(
           "add_prior",
           [](Problem& p, int id, const Eigen::VectorXd& z, const NoiseModel& noise,
-             const std::string& name, const LossHandle* loss) {
+             const std::string& name, const std::optional<LossHandle>& loss) {
             const std::string what =
                 "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
             return p.AddMeasurement(MakePrior(p.manifold(id), z, noise, what), {id}, noise,
                                     loss ? loss->loss : nullptr, name);
           },
           py::arg("id"), py::arg("z"), py::arg("noise"), py::arg("name") = "",
-          py::arg("loss") = nullptr,
+          py::arg("loss") = py::none(),
           "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.")
       .def("noise", &Problem::noise, py::arg("measurement_id"),
            "The noise model a measurement whitens with.")

@@ -141,7 +141,7 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
       .def(
           "add_cached_measurement",
           [](Problem& p, std::shared_ptr<PyResidualCache> cache, const std::vector<int>& ids,
-             const LossHandle* loss, const std::string& name) {
+             const std::optional<LossHandle>& loss, const std::string& name) {
             const std::string what = "measurement '" + name + "'";
             if (ids.empty())
               throw py::value_error(what + ": depends on no variable (ids is empty)");
@@ -162,7 +162,7 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
                 std::make_shared<CachedCostFunction>(cache, index, cache->residual_size(), ms);
             return p.AddMeasurement(cost, ids, loss ? loss->loss : nullptr, name);
           },
-          py::arg("cache"), py::arg("ids"), py::arg("loss") = nullptr, py::arg("name") = "")
+          py::arg("cache"), py::arg("ids"), py::arg("loss") = py::none(), py::arg("name") = "")
       .def(
           "values",
           [](const Problem& p, const std::vector<int>& ids) {

@@ -238,7 +238,8 @@ completely first: one that raises leaves the graph unchanged.
             return convention.empty() ? pg.Chi2() : pg.Chi2(ParsePoseErrorConvention(convention));
           },
           py::arg("convention") = "",
-          "Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log' or 'sesync'; "
+          "Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log', 'compound' or "
+          "'sesync'; "
           "default: the graph's convention).")
       .def(
           "poses",

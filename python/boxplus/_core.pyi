@@ -906,41 +906,41 @@ class Problem:
     """
     def __init__(self) -> None:
         ...
-    def add_cached_measurement(self, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], loss: Loss = None, name: str = '') -> int:
+    def add_cached_measurement(self, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], loss: Loss | None = None, name: str = '') -> int:
         ...
-    def add_dh_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, dh: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, joints: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], base_from_chain: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], flange_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_dh_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, dh: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, joints: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], base_from_chain: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], flange_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) from joint readings; see factors/kinematics/marker.h.
         """
-    def add_disparity(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, disparity_params: typing.SupportsInt | typing.SupportsIndex, d: typing.SupportsFloat | typing.SupportsIndex, noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_disparity(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, disparity_params: typing.SupportsInt | typing.SupportsIndex, d: typing.SupportsFloat | typing.SupportsIndex, noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see factors/depth/disparity.h.
         """
-    def add_gravity(self, model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_gravity(self, model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Gravity in the IMU: r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; see factors/imu/gravity.h.
         """
-    def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Marker on a hand, base_from_hand from forward kinematics (constant); see factors/kinematics/marker.h.
         """
-    def add_pinhole_board(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"], name: str = '', loss: Loss = None) -> int:
+    def add_pinhole_board(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"], name: str = '', loss: Loss | None = None) -> int:
         """
         All points of a board in one residual block: z (N, 2) pixels, p_in_world (N, 3), noise of one corner (2-dim); see factors/camera/board.h.
         """
-    def add_pinhole_point(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_pinhole_point(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Projection r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z); see factors/camera/point_projection.h.
         """
-    def add_point(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_world_id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss = None) -> int:
+    def add_point(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_world_id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
-        3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/point.h.
+        3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/observed_point.h.
         """
-    def add_prior(self, id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, name: str = '', loss: Loss = None) -> int:
+    def add_prior(self, id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
         """
         Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.
         """
-    def add_relative_pose(self, world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, name: str = '', loss: Loss = None) -> int:
+    def add_relative_pose(self, world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
         """
         r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/pose/relative_pose.h.
         """
@@ -1125,7 +1125,7 @@ class PoseGraph:
         """
     def chi2(self, convention: str = '') -> float:
         """
-        Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log' or 'sesync'; default: the graph's convention).
+        Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log', 'compound' or 'sesync'; default: the graph's convention).
         """
     def chi2_per_dof(self) -> float:
         """

@@ -17,11 +17,10 @@
 #include "boxplus/factors/imu/gravity.h"
 #include "boxplus/factors/kinematics/dh.h"
 #include "boxplus/factors/kinematics/marker.h"
-#include "boxplus/factors/pose/point.h"
+#include "boxplus/factors/pose/chordal_relative_pose.h"
+#include "boxplus/factors/pose/observed_point.h"
+#include "boxplus/factors/pose/prior.h"
 #include "boxplus/factors/pose/relative_pose.h"
-#include "boxplus/factors/pose/relative_pose2d.h"
-#include "boxplus/factors/pose/relative_pose3d.h"
-#include "boxplus/factors/pose/relative_pose_sesync.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {
@@ -206,15 +205,17 @@ TEST(RelativePoseFactor, JacobiansAndZeroAtTruth) {
   const Pose a = RandomPose(rng), b = RandomPose(rng);
   SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
   const SE3 b2a = A.inverse() * B;
-  auto f = MakeRelativePoseFactor(b2a.ambient(), NoiseModel::SqrtInformation(W));
+  const auto compound = PoseErrorConvention::kCompound;
+  auto f = MakeRelativePose3D(b2a.ambient(), NoiseModel::SqrtInformation(W), compound);
   EXPECT_LT(Eval(*f, {{a, true}, {b, true}}).norm(), 1e-12);
-  ExpectJacobiansMatch(*MakeRelativePoseFactor(RandomPose(rng), NoiseModel::SqrtInformation(W)),
-                       {{a, true}, {b, true}});
+  ExpectJacobiansMatch(
+      *MakeRelativePose3D(RandomPose(rng), NoiseModel::SqrtInformation(W), compound),
+      {{a, true}, {b, true}});
 }
 
 // SE-Sync's chordal factor: Jacobians, zero at the truth, and ‖r‖² against
 // its definition with τ, κ from Ω (SE-Sync's read_g2o_file).
-TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue3D) {
+TEST(ChordalRelativePoseFactor, JacobiansZeroAtTruthAndValue3D) {
   std::mt19937 rng(11);
   Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Identity();
   info.topLeftCorner<3, 3>() << 4, 1, 0, 1, 3, 0.5, 0, 0.5, 2;
@@ -222,27 +223,38 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue3D) {
   const double tau = 3.0 / info.topLeftCorner<3, 3>().inverse().trace();
   const double kappa = 3.0 / (2.0 * info.bottomRightCorner<3, 3>().inverse().trace());
   const NoiseModel noise = NoiseModel::Information(info);
-  const SESyncPrecisions p = SESyncPrecisionsOf(noise);
+  const ChordalPrecisions p = ChordalPrecisionsOf(noise);
   EXPECT_NEAR(p.tau, tau, 1e-12);
   EXPECT_NEAR(p.kappa, kappa, 1e-12);
   const Pose a = RandomPose(rng, 2.0), b = RandomPose(rng, 2.0), z = RandomPose(rng, 2.0);
   const SE3 A = SE3::FromAmbient(a.data()), B = SE3::FromAmbient(b.data());
   const SE3 Z = SE3::FromAmbient(z.data());
-  auto truth = MakeRelativePose3DSESync((A.inverse() * B).ambient(), noise);
+  auto truth = MakeChordalRelativePose3D((A.inverse() * B).ambient(), noise);
   EXPECT_EQ(truth->num_residuals(), 12);
   EXPECT_LT(Eval(*truth, {{a, true}, {b, true}}).norm(), 1e-12);
-  auto f = MakeRelativePose3DSESync(z, noise);
+  auto f = MakeChordalRelativePose3D(z, noise);
   ExpectJacobiansMatch(*f, {{a, true}, {b, true}});
   const Eigen::Matrix3d Ri = A.rotation().matrix(), Rj = B.rotation().matrix();
   const Eigen::Matrix3d Rz = Z.rotation().matrix();
   const Eigen::Vector3d t = B.pos() - A.pos() - Ri * Z.pos();
   const double expected = kappa * (Rj - Ri * Rz).squaredNorm() + tau * t.squaredNorm();
-  EXPECT_NEAR(Eval(*f, {{a, true}, {b, true}}).squaredNorm(), expected, 1e-10 * expected);
+  const Eigen::VectorXd r = Eval(*f, {{a, true}, {b, true}});
+  EXPECT_NEAR(r.squaredNorm(), expected, 1e-10 * expected);
+  // ChordalNoise un-whitens r to the chordal error e = [t, vec(Rj − Ri Rz)]
+  // (rows of the matrix one after the other), in the poses' units.
+  const NoiseModel chordal = ChordalNoise(noise);
+  ASSERT_EQ(chordal.dim(), 12);
+  Eigen::VectorXd e(12);
+  e.head<3>() = t;
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> D = Rj - Ri * Rz;
+  e.tail<9>() = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(D.data());
+  EXPECT_LT((chordal.Unwhiten(r) - e).norm(), 1e-12 * (1 + e.norm()));
+  EXPECT_EQ(chordal.Whiten(chordal.Unwhiten(r)), r);
   // The convention's name selects this factor.
   EXPECT_EQ(MakeRelativePose3D(z, noise, ParsePoseErrorConvention("chordal"))->num_residuals(), 12);
 }
 
-TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
+TEST(ChordalRelativePoseFactor, JacobiansZeroAtTruthAndValue2D) {
   std::mt19937 rng(12);
   std::normal_distribution<double> g;
   Eigen::Matrix3d info;
@@ -255,7 +267,7 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
     a << 3 * g(rng), 3 * g(rng), 3 * g(rng);
     b << 3 * g(rng), 3 * g(rng), 3 * g(rng);
     Eigen::Vector3d z(g(rng), g(rng), 3 * g(rng));
-    auto f = MakeRelativePose2DSESync(z, noise);
+    auto f = MakeChordalRelativePose2D(z, noise);
     EXPECT_EQ(f->num_residuals(), 6);
     ExpectJacobiansMatch(*f, {{a, false}, {b, false}});
     const Eigen::Vector2d t = b.head<2>() - a.head<2>() - rot(a[2]) * z.head<2>();
@@ -266,13 +278,15 @@ TEST(RelativePoseSESyncFactor, JacobiansZeroAtTruthAndValue2D) {
     Eigen::Vector3d zt;
     zt.head<2>() = rot(a[2]).transpose() * (b.head<2>() - a.head<2>());
     zt[2] = b[2] - a[2];
-    EXPECT_LT(Eval(*MakeRelativePose2DSESync(zt, noise), {{a, false}, {b, false}}).norm(), 1e-12);
+    EXPECT_LT(Eval(*MakeChordalRelativePose2D(zt, noise), {{a, false}, {b, false}}).norm(), 1e-12);
   }
   EXPECT_EQ(MakeRelativePose2D(Eigen::Vector3d(1, 0, 0), noise, PoseErrorConvention::kSESync)
                 ->num_residuals(),
             6);
-  EXPECT_THROW(MakeRelativePose2DSESync(Eigen::Vector3d(1, 0, 0), NoiseModel::Information(-info)),
+  EXPECT_THROW(MakeChordalRelativePose2D(Eigen::Vector3d(1, 0, 0), NoiseModel::Information(-info)),
                Error);
+  EXPECT_EQ(ChordalNoise(noise).dim(), 6);
+  EXPECT_THROW(ChordalNoise(NoiseModel::Unit(4)), Error);
   EXPECT_STREQ(ToString(ParsePoseErrorConvention("sesync")), "sesync");
 }
 
@@ -280,10 +294,10 @@ TEST(PointFactor, Jacobians) {
   std::mt19937 rng(6);
   const Eigen::Matrix3d W = Eigen::Vector3d(1, 2, 3).asDiagonal();
   ExpectJacobiansMatch(
-      *MakePointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W), {0.3, -0.2, 2.0}),
+      *MakeObservedPointOnRig({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W), {0.3, -0.2, 2.0}),
       {{RandomPose(rng), true}, {RandomPose(rng), true}});
   ExpectJacobiansMatch(
-      *MakeLandmarkPointFactor({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W)),
+      *MakeObservedLandmarkOnRig({0.1, 0.2, 1.0}, NoiseModel::SqrtInformation(W)),
       {{RandomPose(rng), true}, {RandomPose(rng), true}, {Eigen::Vector3d(0.3, -0.2, 2.0), false}});
 }
 
@@ -414,16 +428,121 @@ TEST(SensorFactors, NoiseInAllFormsGivesTheSameCost) {
 namespace boxplus {
 namespace {
 
-// The Δ-error templates cover g2o and log only; sesync has its own residual.
+// The Δ-error templates are instantiated for the error conventions only:
+// SE-Sync's chordal residual is its own kind, refused at compile time (no
+// run-time check inside the autodiff functors) and skipped by the run-time
+// dispatch.
+template <class C, class = void>
+struct HasRelativePoseError : std::false_type {};
+template <class C>
+struct HasRelativePoseError<C, std::void_t<decltype(RelativePose3DError<C>(
+                                   std::declval<const double*>(), std::declval<const double*>(),
+                                   std::declval<const double*>(), std::declval<double*>()))>>
+    : std::true_type {};
+
 TEST(RelativePoseError, RejectsTheSESyncConvention) {
-  const double x2[3] = {0, 0, 0}, z2[3] = {1, 0, 0};
-  double e2[3];
-  EXPECT_THROW(RelativePose2DError(x2, x2, z2, e2, PoseErrorConvention::kSESync), Error);
+  static_assert(HasRelativePoseError<pose_error::G2o>::value);
+  static_assert(HasRelativePoseError<pose_error::Log>::value);
+  static_assert(HasRelativePoseError<pose_error::Compound>::value);
+  static_assert(!HasRelativePoseError<ChordalPrecisions>::value);
+  bool called = false;
+  EXPECT_FALSE(WithErrorConvention(PoseErrorConvention::kSESync, [&](auto) { called = true; }));
+  EXPECT_FALSE(called);
+  EXPECT_TRUE(WithErrorConvention(PoseErrorConvention::kG2o, [&](auto) { called = true; }));
+  EXPECT_TRUE(called);
   const double x3[7] = {0, 0, 0, 0, 0, 0, 1}, z3[7] = {1, 0, 0, 0, 0, 0, 1};
   double e3[6];
-  EXPECT_THROW(RelativePose3DError(x3, x3, z3, PoseErrorConvention::kSESync, e3), Error);
-  RelativePose3DError(x3, x3, z3, PoseErrorConvention::kG2o, e3);
+  RelativePose3DError<pose_error::G2o>(x3, x3, z3, e3);
   EXPECT_DOUBLE_EQ(e3[0], -1.0);
+}
+
+// The compound convention is the manifold's ⊟ of x_ij = xᵢ⁻¹xⱼ and z: in 2D
+// [t_ij − t_z, wrap(θ_ij − θ_z)], the translation not rotated into z's frame
+// (g2o's is R_zᵀ(t_ij − t_z)); in 3D SE3Ops::Minus of SE3 values.
+TEST(RelativePoseError, CompoundIsTheManifoldMinus) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const SE2 A(Eigen::Vector2d(u(rng), u(rng)), u(rng)),
+        B(Eigen::Vector2d(u(rng), u(rng)), u(rng));
+    const Eigen::Vector3d z(u(rng), u(rng), u(rng));
+    double e[3], g[3];
+    RelativePose2DError<pose_error::Compound>(A.ambient().data(), B.ambient().data(), z.data(), e);
+    RelativePose2DError<pose_error::G2o>(A.ambient().data(), B.ambient().data(), z.data(), g);
+    const SE2 AB = A.inverse() * B;
+    const Eigen::Vector2d t = AB.ambient().head<2>() - z.head<2>();
+    EXPECT_NEAR(e[0], t.x(), 1e-12);
+    EXPECT_NEAR(e[1], t.y(), 1e-12);
+    EXPECT_NEAR(e[2], g[2], 0.0);
+    const Eigen::Vector2d tg = Eigen::Rotation2Dd(-z[2]) * t;
+    EXPECT_NEAR(g[0], tg.x(), 1e-12);
+    EXPECT_NEAR(g[1], tg.y(), 1e-12);
+    const Pose a = RandomPose(rng, 2.0), b = RandomPose(rng, 2.0), zp = RandomPose(rng, 2.0);
+    double e3[6], m3[6];
+    RelativePose3DError<pose_error::Compound>(a.data(), b.data(), zp.data(), e3);
+    const SE3 ab = SE3::FromAmbient(a.data()).inverse() * SE3::FromAmbient(b.data());
+    SE3Ops::Minus(ab.ambient().data(), zp.data(), m3);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(e3[k], m3[k], 1e-12);
+  }
+}
+
+// MakePrior finds each built-in manifold in its table and refuses the others.
+TEST(Prior, EveryBuiltInManifoldByTable) {
+  for (const char* kind : {"Rn", "SO2", "SO3", "SE2", "SE3", "S2"}) {
+    const auto m = MakeManifold(kind, 4);
+    Eigen::VectorXd z(m->AmbientSize());
+    z.setZero();
+    z[z.size() - 1] = 1.0;  // the identity / north pole of each ambient layout
+    const auto f = MakePrior(*m, z, NoiseModel::Unit(m->TangentSize()), kind);
+    EXPECT_EQ(f->num_residuals(), m->TangentSize()) << kind;
+    Eigen::VectorXd r(f->num_residuals());
+    const double* x[] = {z.data()};
+    ASSERT_TRUE(f->Evaluate(x, r.data(), nullptr)) << kind;
+    EXPECT_LT(r.norm(), 1e-12) << kind;  // x = z
+  }
+  const auto product =
+      std::make_shared<ProductManifold>(std::vector<std::shared_ptr<const ceres::Manifold>>{
+          MakeManifold("SO3"), MakeManifold("Rn", 3)});
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(product->AmbientSize());
+  EXPECT_THROW(MakePrior(*product, z, NoiseModel::Unit(product->TangentSize()), "p"), Error);
+  EXPECT_THROW(
+      MakePrior(*MakeManifold("SO3"), Eigen::Vector4d(0, 0, 0, 1), NoiseModel::Unit(2), "p"),
+      Error);
+}
+
+// W alone is stored; un-whitening solves with it in every shape of W and
+// agrees with the explicit inverse.
+TEST(NoiseModel, UnwhitenSolvesWithW) {
+  Eigen::Matrix3d S;
+  S << 4, 1, 0.5, 1, 3, 0.2, 0.5, 0.2, 2;
+  Eigen::Matrix3d G;
+  G << 2, 1, 0, -1, 3, 1, 0.5, 0, 1;  // neither triangular nor diagonal
+  const std::vector<NoiseModel> models = {
+      NoiseModel::Unit(3),
+      NoiseModel::Sigmas(Eigen::Vector3d(0.5, 2, 3)),
+      NoiseModel::Covariance(S),
+      NoiseModel::Information(S),
+      NoiseModel::SqrtInformation(G),
+      NoiseModel::DiagonalSqrtInformation(Eigen::Vector3d(2, 0.5, 4))};
+  Eigen::VectorXd r(6);
+  r << 0.3, -1.2, 2.0, 0.7, 0.1, -0.4;
+  for (const NoiseModel& n : models) {
+    const Eigen::MatrixXd W = n.sqrt_information();
+    const Eigen::MatrixXd W_inv = W.inverse();
+    EXPECT_LT((n.inverse_sqrt_information() - W_inv).norm(), 1e-12) << n.Describe();
+    EXPECT_LT((n.covariance() - W_inv * W_inv.transpose()).norm(), 1e-12) << n.Describe();
+    Eigen::VectorXd e(6);
+    e << W_inv * r.head<3>(), W_inv * r.tail<3>();
+    EXPECT_LT((n.Unwhiten(r) - e).norm(), 1e-12) << n.Describe();
+    EXPECT_LT((n.Whiten(n.Unwhiten(r)) - r).norm(), 1e-12) << n.Describe();
+  }
+  EXPECT_LT((NoiseModel::Covariance(S).covariance() - S).norm(), 1e-12);
+  EXPECT_LT(
+      (NoiseModel::Sigmas(Eigen::Vector3d(0.5, 2, 3)).sigmas() - Eigen::Vector3d(0.5, 2, 3)).norm(),
+      1e-15);
+  EXPECT_THROW(NoiseModel::DiagonalSqrtInformation(Eigen::Vector2d(1, 0)), Error);
+  EXPECT_THROW(NoiseModel::DiagonalSqrtInformation(Eigen::Vector2d(1, NAN)), Error);
+  EXPECT_THROW(NoiseModel::Unit(3).Unwhiten(Eigen::VectorXd::Ones(4)), Error);
 }
 
 }  // namespace

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "boxplus/boxplus.h"
-#include "boxplus/factors/pose/relative_pose2d.h"
+#include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/slam/initialization.h"
 #include "boxplus/slam/pose_graph.h"
 

@@ -9,9 +9,10 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/factors/pose/bearing_range.h"
-#include "boxplus/factors/pose/pose_point.h"
-#include "boxplus/factors/pose/relative_pose2d.h"
-#include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/factors/pose/chordal_relative_pose.h"
+#include "boxplus/factors/pose/observed_point.h"
+#include "boxplus/factors/pose/prior.h"
+#include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/loss.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/slam/initialization.h"
@@ -166,7 +167,7 @@ TEST(RelativePose3D, LogConventionInvertsTheSE3Exponential) {
     w = w.normalized() * scale;
     const auto xj = ExpSE3(u, w);
     double e[6];
-    RelativePose3DError(id.data(), xj.data(), id.data(), PoseErrorConvention::kLog, e);
+    RelativePose3DError<pose_error::Log>(id.data(), xj.data(), id.data(), e);
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(e[k], u[k], 1e-9) << scale;
       EXPECT_NEAR(e[3 + k], w[k], 1e-12) << scale;
@@ -185,7 +186,7 @@ TEST(RelativePose2D, LogConventionInvertsTheSE2Exponential) {
                                                     ((1 - c) * u.x() + s * u.y()) / th);
     const double xi[3] = {0, 0, 0}, xj[3] = {t.x(), t.y(), th}, z[3] = {0, 0, 0};
     double e[3];
-    RelativePose2DError(xi, xj, z, e, PoseErrorConvention::kLog);
+    RelativePose2DError<pose_error::Log>(xi, xj, z, e);
     EXPECT_NEAR(e[0], u.x(), 1e-9);
     EXPECT_NEAR(e[1], u.y(), 1e-9);
     EXPECT_NEAR(e[2], th, 1e-12);
@@ -198,7 +199,7 @@ TEST(LandmarkFactors, ZeroAtTheTruth) {
   const Eigen::Rotation2Dd R(0.5);
   const Eigen::Vector2d local = R.inverse() * (l - pose.head<2>());
   double e[2];
-  PosePoint2DError(pose.data(), l.data(), local.data(), e);
+  ObservedPointError<2>(pose.data(), l.data(), local.data(), e);
   EXPECT_NEAR(Eigen::Vector2d(e[0], e[1]).norm(), 0, 1e-12);
   const double br[2] = {std::atan2(local.y(), local.x()), local.norm()};
   ASSERT_TRUE(BearingRange2DError(pose.data(), l.data(), br, e));
@@ -231,6 +232,68 @@ TEST(PoseGraph, LandmarksAndFixLines) {
   EXPECT_TRUE(s.usable);
   EXPECT_LT(pg.Chi2(), 1e-2);
   EXPECT_EQ(pg.problem().value(pg.variable(0))[0], 0.0);  // FIX 0 held
+}
+
+// Every convention's chi2 (EdgeChi2) is Σ‖r‖² of the factors the graph is
+// built from, i.e. 2× the problem's cost, away from the optimum too.
+TEST(PoseGraph, Chi2OfEveryConventionIsTheFactorsCost) {
+  for (const char* file : {"tinyGrid3D.g2o", "landmarks2d.g2o"}) {
+    for (auto conv : {PoseErrorConvention::kG2o, PoseErrorConvention::kLog,
+                      PoseErrorConvention::kCompound, PoseErrorConvention::kSESync}) {
+      slam::PoseGraphOptions o;
+      o.convention = conv;
+      slam::PoseGraph pg(io::ReadG2o(kData + file), o);
+      const double chi2 = pg.Chi2();
+      EXPECT_GT(chi2, 0.0) << file << " " << ToString(conv);
+      EXPECT_NEAR(2 * pg.problem().Cost(), chi2, 1e-10 * chi2) << file << " " << ToString(conv);
+    }
+  }
+}
+
+// SE-Sync's edges register the model of their own residual: Error() is the
+// chordal error [tⱼ − tᵢ − Rᵢt̃ᵢⱼ, vec(Rⱼ − RᵢR̃ᵢⱼ)], not the whitened residual.
+TEST(PoseGraph, ChordalEdgesUnwhitenToTheChordalError) {
+  slam::PoseGraphOptions o;
+  o.convention = PoseErrorConvention::kSESync;
+  slam::PoseGraph pg(io::ReadG2o(kData + "tinyGrid3D.g2o"), o);
+  const io::Edge& e = pg.graph().edges[0];
+  Problem& p = pg.problem();
+  ASSERT_EQ(p.noise(0).dim(), 12);
+  const SE3 A = SE3::FromAmbient(p.value(pg.variable(e.from)));
+  const SE3 B = SE3::FromAmbient(p.value(pg.variable(e.to)));
+  const SE3 Z = SE3::FromAmbient(e.measurement.data());
+  Eigen::VectorXd expected(12);
+  expected.head<3>() = B.pos() - A.pos() - A.rotation().matrix() * Z.pos();
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> D =
+      B.rotation().matrix() - A.rotation().matrix() * Z.rotation().matrix();
+  expected.tail<9>() = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(D.data());
+  EXPECT_LT((p.Error(0) - expected).norm(), 1e-12 * (1 + expected.norm()));
+  const ChordalPrecisions c = ChordalPrecisionsOf(NoiseModel::Information(e.information));
+  EXPECT_NEAR(p.Residual(0).head<3>().norm(), std::sqrt(c.tau) * expected.head<3>().norm(), 1e-12);
+}
+
+// The edges of the file are named by the graph ("edge i-j") without a string
+// each; an edge added after a measurement of the caller's keeps its own name.
+TEST(PoseGraph, EdgeNamesAreDerived) {
+  slam::PoseGraph pg(io::ReadG2o(kData + "landmarks2d.g2o"));
+  Problem& p = pg.problem();
+  const int n = p.num_measurements();
+  ASSERT_GT(n, 1);
+  for (int k = 0; k < n; ++k) {
+    const io::Edge& e = pg.graph().edges[k];
+    EXPECT_EQ(p.measurement_name(k), "edge " + std::to_string(e.from) + "-" + std::to_string(e.to));
+  }
+  io::Edge extra = pg.graph().edges[0];
+  pg.AddEdge(extra);  // still in step with the graph: derived
+  EXPECT_EQ(p.measurement_name(n), p.measurement_name(0));
+  const int x = pg.variable(extra.from);
+  const Eigen::VectorXd z = Eigen::Map<const Eigen::VectorXd>(p.value(x), 3);
+  p.AddMeasurement(MakePrior(p.manifold(x), z, NoiseModel::Unit(3), "prior"), {x},
+                   NoiseModel::Unit(3));
+  EXPECT_EQ(p.measurement_name(n + 1), "z" + std::to_string(n + 1));
+  pg.AddEdge(extra);
+  EXPECT_EQ(p.measurement_name(n + 2), p.measurement_name(0));
+  EXPECT_EQ(p.measurement_name(n + 1), "z" + std::to_string(n + 1));
 }
 
 TEST(PoseGraph, RobustKernelsByName) {

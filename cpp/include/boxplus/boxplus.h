@@ -2,7 +2,6 @@
 #pragma once
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/pose/make_prior.h"
 #include "boxplus/factors/pose/prior.h"
 #include "boxplus/loss.h"
 #include "boxplus/manifolds.h"

@@ -17,6 +17,11 @@
 // boxplus::Problem keeps each measurement's NoiseModel so that errors are
 // un-whitened in one place (Problem::Error). The idea is GTSAM's NoiseModel
 // (noiseModel::Gaussian::Covariance/Information/SqrtInformation/Sigmas).
+//
+// Only W is stored (a pose graph keeps one model per edge): W⁻¹ is never
+// formed for un-whitening, which solves W e = r instead — a division for a
+// diagonal W (σ), a triangular solve for the Cholesky forms (W = L⁻¹ is lower,
+// W = U upper), an LU solve only for a general square root given by the caller.
 #pragma once
 
 #include <string>
@@ -47,18 +52,22 @@ class NoiseModel {
                                 const std::string& what = "noise");
   static NoiseModel SqrtInformation(const Eigen::MatrixXd& sqrt_information,
                                     const std::string& what = "noise");
+  // W = diag(w) given directly (positive, finite): exact where 1/σ would
+  // round (SE-Sync's √τ, √κ: chordal_relative_pose.h).
+  static NoiseModel DiagonalSqrtInformation(const Eigen::VectorXd& w,
+                                            const std::string& what = "noise");
 
   int dim() const { return static_cast<int>(W_.rows()); }
   Form form() const { return form_; }
   // True when W is the identity (Unit, or σ = 1 everywhere).
-  bool is_unit() const { return unit_; }
+  bool is_unit() const { return shape_ == Shape::kIdentity; }
 
   // W (dim × dim): r = W e.
   const Eigen::MatrixXd& sqrt_information() const { return W_; }
-  // W⁻¹ (dim × dim): e = W⁻¹ r.
-  const Eigen::MatrixXd& inverse_sqrt_information() const { return W_inv_; }
+  // W⁻¹ (dim × dim), computed on each call (e = W⁻¹ r).
+  Eigen::MatrixXd inverse_sqrt_information() const;
   Eigen::MatrixXd information() const { return W_.transpose() * W_; }
-  Eigen::MatrixXd covariance() const { return W_inv_ * W_inv_.transpose(); }
+  Eigen::MatrixXd covariance() const;
   // √diag(Σ): the marginal standard deviation of each error coordinate.
   Eigen::VectorXd sigmas() const;
 
@@ -70,7 +79,8 @@ class NoiseModel {
     return W_;
   }
 
-  // r = W e and e = W⁻¹ r for e, r of k·dim() entries (block-diagonal).
+  // r = W e and e = W⁻¹ r for e, r of k·dim() entries (block-diagonal);
+  // Unwhiten solves W e = r (see the top of this file).
   Eigen::VectorXd Whiten(const Eigen::VectorXd& e) const;
   Eigen::VectorXd Unwhiten(const Eigen::VectorXd& r) const;
 
@@ -78,11 +88,14 @@ class NoiseModel {
   std::string Describe() const;
 
  private:
-  NoiseModel(Form form, Eigen::MatrixXd W, Eigen::MatrixXd W_inv);
+  // The structure of W that Unwhiten exploits, found from W's entries.
+  enum class Shape : unsigned char { kIdentity, kDiagonal, kLower, kUpper, kGeneral };
+  NoiseModel(Form form, Eigen::MatrixXd W);
+  void UnwhitenBlock(Eigen::Ref<Eigen::MatrixXd> B) const;
+  Eigen::Index CheckBlocks(Eigen::Index size, const char* op) const;
   Form form_ = Form::kUnit;
+  Shape shape_ = Shape::kIdentity;
   Eigen::MatrixXd W_ = Eigen::MatrixXd(0, 0);
-  Eigen::MatrixXd W_inv_ = Eigen::MatrixXd(0, 0);
-  bool unit_ = true;
 };
 
 // r = W e for one block of N entries, any scalar type (double or ceres::Jet).

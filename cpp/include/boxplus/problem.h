@@ -54,6 +54,12 @@ struct JacobianEvaluation {
 // here and serve the per-measurement Evaluate calls from a cache.
 using EvaluationHook = std::function<void(bool evaluate_jacobians, bool new_point)>;
 
+// Names the measurements added without a name, from their id ("" when it has
+// none for that id: the name is then "z<id>"). Lets an owner whose
+// measurements are named by their data (a pose graph's "edge i-j") keep no
+// string per measurement.
+using MeasurementNamer = std::function<std::string(int measurement_id)>;
+
 class Problem {
  public:
   Problem();
@@ -97,7 +103,9 @@ class Problem {
     return AddMeasurement(std::move(cost), var_ids, NoiseModel(), std::move(loss), name);
   }
   int num_measurements() const;
-  const std::string& measurement_name(int id) const;
+  // The name given to AddMeasurement, else the namer's, else "z<id>".
+  std::string measurement_name(int id) const;
+  void SetMeasurementNamer(MeasurementNamer namer);
   const std::vector<int>& measurement_variables(int id) const;
   int residual_size(int id) const;
   // The noise model the measurement whitens with.
@@ -145,6 +153,7 @@ class Problem {
   // Σ over measurements of their Jacobian entries (Ceres indexes them with int).
   long long jacobian_entries_ = 0;
   std::unique_ptr<HookDispatcher> hooks_;
+  MeasurementNamer namer_;
   std::unique_ptr<ceres::Problem> problem_;
   std::vector<std::unique_ptr<Variable>> vars_;
   std::vector<Measurement> meas_;

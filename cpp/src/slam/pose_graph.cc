@@ -8,9 +8,9 @@
 
 #include "boxplus/errors.h"
 #include "boxplus/factors/pose/bearing_range.h"
-#include "boxplus/factors/pose/pose_point.h"
-#include "boxplus/factors/pose/relative_pose2d.h"
-#include "boxplus/factors/pose/relative_pose_sesync.h"
+#include "boxplus/factors/pose/chordal_relative_pose.h"
+#include "boxplus/factors/pose/observed_point.h"
+#include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds.h"
 
@@ -25,9 +25,9 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e, const Noise
     case io::EdgeKind::kSE3:
       return MakeRelativePose3D(z, noise, convention);
     case io::EdgeKind::kSE2Point2:
-      return MakePosePoint2D(z, noise);
+      return MakeObservedPoint2D(z, noise);
     case io::EdgeKind::kSE3Point3:
-      return MakePosePoint3D(z, noise);
+      return MakeObservedPoint3D(z, noise);
     case io::EdgeKind::kSE2BearingRange:
       return MakeBearingRange2D(z, noise);
   }
@@ -37,15 +37,15 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e, const Noise
 double EdgeChi2(const io::Edge& e, const double* a, const double* b,
                 PoseErrorConvention convention) {
   const double* z = e.measurement.data();
-  if (convention == PoseErrorConvention::kSESync &&
-      (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3)) {
-    const SESyncPrecisions p = SESyncPrecisionsOf(NoiseModel::Information(e.information));
+  const bool pose_edge = e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3;
+  if (convention == PoseErrorConvention::kSESync && pose_edge) {
+    const ChordalPrecisions p = ChordalPrecisionsOf(NoiseModel::Information(e.information));
     double r[12];
     const int n = e.kind == io::EdgeKind::kSE2 ? 6 : 12;
     if (n == 6) {
-      RelativePose2DSESyncResidual(a, b, z, p, r);
+      ChordalRelativePose2DResidual(a, b, z, p, r);
     } else {
-      RelativePose3DSESyncResidual(a, b, z, p, r);
+      ChordalRelativePose3DResidual(a, b, z, p, r);
     }
     return Eigen::Map<const Eigen::VectorXd>(r, n).squaredNorm();
   }
@@ -53,16 +53,18 @@ double EdgeChi2(const io::Edge& e, const double* a, const double* b,
   Eigen::VectorXd err(n);
   switch (e.kind) {
     case io::EdgeKind::kSE2:
-      RelativePose2DError(a, b, z, err.data(), convention);
+      WithErrorConvention(convention,
+                          [&](auto c) { RelativePose2DError<decltype(c)>(a, b, z, err.data()); });
       break;
     case io::EdgeKind::kSE3:
-      RelativePose3DError(a, b, z, convention, err.data());
+      WithErrorConvention(convention,
+                          [&](auto c) { RelativePose3DError<decltype(c)>(a, b, z, err.data()); });
       break;
     case io::EdgeKind::kSE2Point2:
-      PosePoint2DError(a, b, z, err.data());
+      ObservedPointError<2>(a, b, z, err.data());
       break;
     case io::EdgeKind::kSE3Point3:
-      PosePoint3DError(a, b, z, err.data());
+      ObservedPointError<3>(a, b, z, err.data());
       break;
     case io::EdgeKind::kSE2BearingRange:
       if (!BearingRange2DError(a, b, z, err.data())) return INFINITY;
@@ -72,6 +74,10 @@ double EdgeChi2(const io::Edge& e, const double* a, const double* b,
 }
 
 namespace {
+
+std::string EdgeName(const io::Edge& e) {
+  return "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
+}
 
 std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
   static const auto se2 = MakeManifold("SE2");
@@ -96,6 +102,12 @@ std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
 PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
     : graph_(std::move(graph)), options_(options) {
   loss_ = MakeLoss(options_.robust, options_.robust_width);
+  // Measurement k < named_edges_ is edge k of the graph: its name is derived.
+  problem_.SetMeasurementNamer([this](int id) {
+    if (id >= named_edges_) return std::string();
+    const io::Edge& e = graph_.edges[id];
+    return EdgeName(e);
+  });
   var_of_vertex_.reserve(graph_.vertices.size());
   for (const io::Vertex& v : graph_.vertices) {
     try {
@@ -129,16 +141,20 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
 void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
   const int a = var_of_vertex_[graph_.VertexIndex(e.from)];
   const int b = var_of_vertex_[graph_.VertexIndex(e.to)];
-  const std::string name = "edge " + std::to_string(e.from) + "-" + std::to_string(e.to);
+  const std::string name = EdgeName(e);
   try {
     // One model per edge: the factor whitens with it and the problem keeps it
-    // to un-whiten the edge's error. SE-Sync's residual is not W e, so its
-    // edges register a unit model (the error is the residual).
+    // to un-whiten the edge's error. SE-Sync's chordal residual is whitened
+    // by the model of its own error (chordal_relative_pose.h).
     const NoiseModel noise = NoiseModel::Information(e.information, name + " information");
     const bool chordal = options_.convention == PoseErrorConvention::kSESync &&
                          (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
+    // The edges added in file order are named by the namer (no string each).
+    const bool derived_name = problem_.num_measurements() == named_edges_;
     problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention), {a, b},
-                            chordal ? NoiseModel() : noise, loss_, name);
+                            chordal ? ChordalNoise(noise) : noise, loss_,
+                            derived_name ? std::string() : name);
+    if (derived_name) ++named_edges_;
   } catch (const ParseError&) {
     throw;
   } catch (const Error& err) {

@@ -24,28 +24,28 @@ void RegisterCameraFactors(py::module_& m) {
       "add_pinhole_point",
       [](Problem& p, const std::string& model, int intrinsics, int world_from_rig, int cam_from_rig,
          const Eigen::Vector2d& z, const NoiseModel& noise, const Eigen::Vector3d& p_in_world,
-         const std::string& name, const LossHandle* loss) {
+         const std::string& name, const std::optional<LossHandle>& loss) {
         return p.AddMeasurement(MakePinholePointFactor(model, z, noise, p_in_world),
                                 {intrinsics, world_from_rig, cam_from_rig}, noise,
                                 loss ? loss->loss : nullptr, name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("world_from_rig"), py::arg("cam_from_rig"),
       py::arg("z"), py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "",
-      py::arg("loss") = nullptr,
+      py::arg("loss") = py::none(),
       "Projection r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z); see "
       "factors/camera/point_projection.h.");
   problem.def(
       "add_pinhole_board",
       [](Problem& p, const std::string& model, int intrinsics, int world_from_rig, int cam_from_rig,
          const BoardPixels& z, const NoiseModel& noise, const BoardPoints& p_in_world,
-         const std::string& name, const LossHandle* loss) {
+         const std::string& name, const std::optional<LossHandle>& loss) {
         return p.AddMeasurement(MakePinholeBoardFactor(model, z, noise, p_in_world),
                                 {intrinsics, world_from_rig, cam_from_rig}, noise,
                                 loss ? loss->loss : nullptr, name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("world_from_rig"), py::arg("cam_from_rig"),
       py::arg("z"), py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "",
-      py::arg("loss") = nullptr,
+      py::arg("loss") = py::none(),
       "All points of a board in one residual block: z (N, 2) pixels, p_in_world (N, 3), noise "
       "of one corner (2-dim); see factors/camera/board.h.");
 }

@@ -19,13 +19,13 @@ void RegisterDepthFactors(py::module_& m) {
       "add_disparity",
       [](Problem& p, int world_from_rig, int cam_from_rig, int disparity_params, double d,
          const NoiseModel& noise, const Eigen::Vector3d& p_in_world, const std::string& name,
-         const LossHandle* loss) {
+         const std::optional<LossHandle>& loss) {
         return p.AddMeasurement(MakeDisparityFactor(d, noise, p_in_world),
                                 {world_from_rig, cam_from_rig, disparity_params}, noise,
                                 loss ? loss->loss : nullptr, name);
       },
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("disparity_params"), py::arg("d"),
-      py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = py::none(),
       "Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see "
       "factors/depth/disparity.h.");
 }

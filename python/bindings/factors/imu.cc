@@ -21,7 +21,7 @@ void RegisterImuFactors(py::module_& m) {
       "add_gravity",
       [](Problem& p, const std::string& model, int world_from_rig, int imu_from_rig, int accel,
          const Eigen::Vector3d& z, const NoiseModel& noise, const Eigen::Vector3d& g_in_world,
-         const std::string& name, const LossHandle* loss) {
+         const std::string& name, const std::optional<LossHandle>& loss) {
         auto cost = MakeGravityFactor(model, z, noise, g_in_world);
         std::vector<int> ids = {world_from_rig, imu_from_rig};
         if (GravityModelSize(model) > 0) ids.push_back(accel);
@@ -29,7 +29,7 @@ void RegisterImuFactors(py::module_& m) {
       },
       py::arg("model"), py::arg("world_from_rig"), py::arg("imu_from_rig"), py::arg("accel"),
       py::arg("z"), py::arg("noise"), py::arg("g_in_world"), py::arg("name") = "",
-      py::arg("loss") = nullptr,
+      py::arg("loss") = py::none(),
       "Gravity in the IMU: r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); "
       "accel ignored for model 'rotation'; see factors/imu/gravity.h.");
 }

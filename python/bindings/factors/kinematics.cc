@@ -21,14 +21,15 @@ void RegisterKinematicsFactors(py::module_& m) {
       "add_marker",
       [](Problem& p, const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
          int cam_from_rig, const Eigen::Vector2d& z, const NoiseModel& noise,
-         const Pose& base_from_hand, const std::string& name, const LossHandle* loss) {
+         const Pose& base_from_hand, const std::string& name,
+         const std::optional<LossHandle>& loss) {
         return p.AddMeasurement(MakeKnownKinematicsMarkerFactor(model, z, noise, base_from_hand),
                                 {intrinsics, base_from_rig, p_in_hand, cam_from_rig}, noise,
                                 loss ? loss->loss : nullptr, name);
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("base_from_rig"), py::arg("p_in_hand"),
       py::arg("cam_from_rig"), py::arg("z"), py::arg("noise"), py::arg("base_from_hand"),
-      py::arg("name") = "", py::arg("loss") = nullptr,
+      py::arg("name") = "", py::arg("loss") = py::none(),
       "Marker on a hand, base_from_hand from forward kinematics (constant); see "
       "factors/kinematics/marker.h.");
   problem.def(
@@ -36,7 +37,7 @@ void RegisterKinematicsFactors(py::module_& m) {
       [](Problem& p, const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
          int cam_from_rig, int dh, const Eigen::Vector2d& z, const NoiseModel& noise,
          const Eigen::VectorXd& joints, const Pose& base_from_chain, const Pose& flange_from_hand,
-         const std::string& name, const LossHandle* loss) {
+         const std::string& name, const std::optional<LossHandle>& loss) {
         return p.AddMeasurement(
             MakeDHMarkerFactor(model, z, noise, joints, base_from_chain, flange_from_hand),
             {intrinsics, base_from_rig, p_in_hand, cam_from_rig, dh}, noise,
@@ -45,7 +46,7 @@ void RegisterKinematicsFactors(py::module_& m) {
       py::arg("model"), py::arg("intrinsics"), py::arg("base_from_rig"), py::arg("p_in_hand"),
       py::arg("cam_from_rig"), py::arg("dh"), py::arg("z"), py::arg("noise"), py::arg("joints"),
       py::arg("base_from_chain"), py::arg("flange_from_hand"), py::arg("name") = "",
-      py::arg("loss") = nullptr,
+      py::arg("loss") = py::none(),
       "Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) "
       "from joint readings; see factors/kinematics/marker.h.");
 }

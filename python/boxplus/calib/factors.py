@@ -232,7 +232,7 @@ class CalibrationFactors:
         loss: LossSpec = None, name: str | None = None, group: str = "point",
     ) -> int:
         """A 3-D point measured in a sensor: r = W (cam_from_rig · world_from_rig⁻¹ ·
-        p_in_world − z) (factors/pose/point.h); ``p_in_world`` a known point (3,) or the
+        p_in_world − z) (factors/pose/observed_point.h); ``p_in_world`` a known point (3,) or the
         id of an Rn(3) variable."""
         what = _what(name, "point", self._count())
         if isinstance(p_in_world, (int, np.integer)):

@@ -118,7 +118,7 @@ class PoseGraph(_core.PoseGraph):
         return solver.run(super(), options, callback, verbose, **overrides)
 
     def chi2(self, convention: str | None = None) -> float:
-        """``Σ eᵀΩe`` at the current values ('g2o', 'log' or 'sesync'; default: the graph's)."""
+        """``Σ eᵀΩe`` at the current values ('g2o', 'log', 'compound' or 'sesync'; default: the graph's)."""
         return super().chi2(convention or "")
 
     def positions(self) -> np.ndarray:
@@ -150,7 +150,7 @@ def load_g2o(
 
     Parameters
     ----------
-    convention : {'g2o', 'log', 'sesync'}
+    convention : {'g2o', 'log', 'compound', 'sesync'}
         Relative-pose error (module docstring); 'chordal' is 'sesync'.
     robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
     robust_width : float

@@ -4,12 +4,12 @@
 // (ambient [p, qx, qy, qz, qw], tangent [δp, δθ] — translation first, ⊞ the
 // compound R³ × SO(3)), 2D/3D points (Rⁿ). Every edge becomes a measurement
 // with the file's information matrix:
-//   EDGE_SE2 / EDGE2            → MakeRelativePose2D (factors/pose/relative_pose2d.h)
-//   EDGE_SE3:QUAT / EDGE3       → MakeRelativePose3D in the chosen convention
-//                                 (g2o's, or GTSAM's SE(3)-log; relative_pose3d.h)
-//   both, convention kSESync    → MakeRelativePose2D/3DSESync (SE-Sync's chordal
-//                                 objective; factors/pose/relative_pose_sesync.h)
-//   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakePosePoint2D/3D (factors/pose/pose_point.h)
+//   EDGE_SE2 / EDGE2            → MakeRelativePose2D  in the chosen convention
+//   EDGE_SE3:QUAT / EDGE3       → MakeRelativePose3D  (g2o's, GTSAM's log or the
+//                                 compound ⊟; factors/pose/relative_pose.h)
+//   both, convention kSESync    → SE-Sync's chordal residual, whitened by
+//                                 ChordalNoise (factors/pose/chordal_relative_pose.h)
+//   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakeObservedPoint2D/3D (factors/pose/observed_point.h)
 //   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/pose/bearing_range.h)
 // optionally wrapped in a robust loss ρ with a width (Huber, Cauchy, ...).
 // The gauge: the vertices of the FIX lines are held constant, else the first
@@ -28,7 +28,7 @@
 
 #include <ceres/loss_function.h>
 
-#include "boxplus/factors/pose/relative_pose3d.h"
+#include "boxplus/factors/pose/pose_error_convention.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/problem.h"
 #include "boxplus/slam/load_report.h"
@@ -126,6 +126,9 @@ class PoseGraph {
   std::vector<int> var_of_vertex_;  // index in graph_.vertices → variable id
   std::shared_ptr<ceres::LossFunction> loss_;
   int gauge_vertex_ = -1;
+  // Measurements 0 … named_edges_ − 1 are the graph's first edges, in order,
+  // and are named "edge i-j" by the problem's namer instead of a string each.
+  int named_edges_ = 0;
   LoadReport load_report_;
   std::vector<Eigen::VectorXd> second_start_;  // vertex order; empty: none
 };

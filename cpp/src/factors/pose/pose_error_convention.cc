@@ -9,8 +9,10 @@ PoseErrorConvention ParsePoseErrorConvention(const std::string& name) {
   if (name == "log" || name == "gtsam" || name == "se3log" || name == "se2log") {
     return PoseErrorConvention::kLog;
   }
+  if (name == "compound") return PoseErrorConvention::kCompound;
   if (name == "sesync" || name == "chordal") return PoseErrorConvention::kSESync;
-  throw Error("unknown pose error convention '" + name + "' (expected 'g2o', 'log' or 'sesync')");
+  throw Error("unknown pose error convention '" + name +
+              "' (expected 'g2o', 'log', 'compound' or 'sesync')");
 }
 
 const char* ToString(PoseErrorConvention c) {
@@ -19,6 +21,8 @@ const char* ToString(PoseErrorConvention c) {
       return "g2o";
     case PoseErrorConvention::kLog:
       return "log";
+    case PoseErrorConvention::kCompound:
+      return "compound";
     case PoseErrorConvention::kSESync:
       return "sesync";
   }

@@ -1,12 +1,12 @@
-#include "boxplus/factors/pose/relative_pose2d.h"
-#include "boxplus/factors/pose/relative_pose_sesync.h"
-
-#include <ceres/autodiff_cost_function.h>
+// SE(2) relative pose in g2o's convention with analytic Jacobians.
 #include <ceres/sized_cost_function.h>
 
-#include "boxplus/noise.h"
+#include <cmath>
 
-namespace boxplus {
+#include "boxplus/manifolds/rotation_math.h"
+#include "relative_pose_analytic.h"
+
+namespace boxplus::internal {
 namespace {
 
 class RelativePose2DCost final : public ceres::SizedCostFunction<3, 3, 3> {
@@ -63,39 +63,11 @@ class RelativePose2DCost final : public ceres::SizedCostFunction<3, 3, 3> {
   Eigen::Matrix3d U_;
 };
 
-struct RelativePose2DFunctor {
-  template <typename T>
-  bool operator()(const T* xi, const T* xj, T* r) const {
-    RelativePose2DError(xi, xj, z.data(), r, convention);
-    WhitenInPlace<3>(U, r);
-    return true;
-  }
-  Eigen::Vector3d z;
-  Eigen::Matrix3d U;
-  PoseErrorConvention convention;
-};
-
 }  // namespace
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose2D(const Eigen::Vector3d& z,
-                                                        const NoiseModel& noise,
-                                                        PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, noise);
-  if (convention == PoseErrorConvention::kLog) {
-    return MakeRelativePose2DAutoDiff(z, noise, convention);
-  }
-  BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  return std::make_shared<RelativePose2DCost>(z, noise.Fixed<3>("relative pose 2D"));
+std::shared_ptr<ceres::CostFunction> MakeRelativePose2DG2oAnalytic(const Eigen::Vector3d& z,
+                                                                   const Eigen::Matrix3d& W) {
+  return std::make_shared<RelativePose2DCost>(z, W);
 }
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose2DAutoDiff(const Eigen::Vector3d& z,
-                                                                const NoiseModel& noise,
-                                                                PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose2DSESync(z, noise);
-  BOXPLUS_CHECK(z.allFinite(), "relative pose 2D: measurement must be finite");
-  const Eigen::Matrix3d U = noise.Fixed<3>("relative pose 2D");
-  return std::make_shared<ceres::AutoDiffCostFunction<RelativePose2DFunctor, 3, 3, 3>>(
-      new RelativePose2DFunctor{z, U, convention});
-}
-
-}  // namespace boxplus
+}  // namespace boxplus::internal

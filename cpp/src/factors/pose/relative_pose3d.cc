@@ -1,19 +1,15 @@
-#include "boxplus/factors/pose/relative_pose3d.h"
-#include "boxplus/factors/pose/relative_pose_sesync.h"
-
-#include <ceres/autodiff_cost_function.h>
+// SE(3) relative pose in g2o's and the log convention with analytic Jacobians.
 #include <ceres/sized_cost_function.h>
 
 #include <cmath>
 
 #include <Eigen/Geometry>
 
-#include "boxplus/errors.h"
-#include "boxplus/factors/pose/unit_quaternion.h"
+#include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/manifolds/so3.h"
-#include "boxplus/noise.h"
+#include "relative_pose_analytic.h"
 
-namespace boxplus {
+namespace boxplus::internal {
 
 namespace {
 
@@ -95,7 +91,7 @@ class RelativePose3DG2oCost final : public ceres::SizedCostFunction<6, 7, 7> {
 };
 
 // SE(3)-log convention with analytic Jacobians. With Δ = z⁻¹(x_i⁻¹x_j),
-// ω = log(R_Δ), W = [ω]×, c(θ) as in RelativePose3DError:
+// ω = log(R_Δ), W = [ω]×, c(θ) as in RelativePose3DError<pose_error::Log>:
 //   u = V(ω)⁻¹ t_Δ = t_Δ − ½ ω×t_Δ + c ω×(ω×t_Δ)
 //   ∂u/∂t_Δ = V⁻¹ = I − ½W + cW²,   ∂ω/∂φ = J_r⁻¹(ω) = I + ½W + cW²
 //                                    (φ: R_Δ → R_Δ exp(φ))
@@ -185,45 +181,16 @@ class RelativePose3DLogCost final : public ceres::SizedCostFunction<6, 7, 7> {
   Mat6 U_;
 };
 
-struct RelativePose3DFunctor {
-  template <typename T>
-  bool operator()(const T* xi, const T* xj, T* r) const {
-    RelativePose3DError(xi, xj, z.data(), convention, r);
-    WhitenInPlace<6>(U, r);
-    return true;
-  }
-  Eigen::Matrix<double, 7, 1> z;
-  Mat6 U;
-  PoseErrorConvention convention;
-};
-
-Eigen::Matrix<double, 7, 1> Normalized(const Eigen::Matrix<double, 7, 1>& z) {
-  BOXPLUS_CHECK(z.allFinite(), "relative pose 3D: measurement must be finite");
-  Eigen::Matrix<double, 7, 1> out = z;
-  BOXPLUS_CHECK(NormalizeQuaternion(z.data() + 3, out.data() + 3),
-                "relative pose 3D: measured quaternion has zero norm");
-  return out;
-}
-
 }  // namespace
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3D(const Eigen::Matrix<double, 7, 1>& z,
-                                                        const NoiseModel& noise,
-                                                        PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
-  const Mat6 U = noise.Fixed<6>("relative pose 3D");
-  if (convention == PoseErrorConvention::kLog) {
-    return std::make_shared<RelativePose3DLogCost>(Normalized(z), U);
-  }
-  return std::make_shared<RelativePose3DG2oCost>(Normalized(z), U);
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3DG2oAnalytic(
+    const Eigen::Matrix<double, 7, 1>& z, const Mat6& W) {
+  return std::make_shared<RelativePose3DG2oCost>(z, W);
 }
 
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3DAutoDiff(
-    const Eigen::Matrix<double, 7, 1>& z, const NoiseModel& noise, PoseErrorConvention convention) {
-  if (convention == PoseErrorConvention::kSESync) return MakeRelativePose3DSESync(z, noise);
-  const Mat6 U = noise.Fixed<6>("relative pose 3D");
-  return std::make_shared<ceres::AutoDiffCostFunction<RelativePose3DFunctor, 6, 7, 7>>(
-      new RelativePose3DFunctor{Normalized(z), U, convention});
+std::shared_ptr<ceres::CostFunction> MakeRelativePose3DLogAnalytic(
+    const Eigen::Matrix<double, 7, 1>& z, const Mat6& W) {
+  return std::make_shared<RelativePose3DLogCost>(z, W);
 }
 
-}  // namespace boxplus
+}  // namespace boxplus::internal

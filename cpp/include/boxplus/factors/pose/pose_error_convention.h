@@ -1,28 +1,27 @@
-// Which error a relative-pose factor uses (2D and 3D), for Δ = z⁻¹ (xᵢ⁻¹ xⱼ):
-//   kG2o  g2o's: 2D e = [t_Δ, θ_Δ]; 3D e = [t_Δ, vec(q_Δ)] with q_Δ.w ≥ 0.
-//   kLog  GTSAM's (BetweenFactor with the Lie-group chart, "SO(3)-log"
-//         convention): e = Log_SE(d)(Δ), reordered [translation part u,
-//         rotation part ω] so that the file's information matrix applies
-//         unchanged. u = V(ω)⁻¹ t_Δ (V the left Jacobian), which differs from
-//         t_Δ by O(|ω|·|t|).
-//   kSESync SE-Sync's chordal objective (Rosen et al., IJRR 2019), not an
-//         error of Δ: r = [√τ (tⱼ − tᵢ − Rᵢt̃ᵢⱼ), √κ vec(Rⱼ − RᵢR̃ᵢⱼ)] with
-//         isotropic precisions τ, κ from Ω (relative_pose_sesync.h); its
-//         chi2 is Σ‖r‖², SE-Sync's f.
-// Details and Jacobians: relative_pose2d.h, relative_pose3d.h,
-// relative_pose_sesync.h.
+// Which residual a relative-pose measurement uses, chosen at run time (a pose
+// graph's option, the CLI's --convention, Python's convention=). Three are
+// errors e of the relative pose, whitened as r = W e (relative_pose.h; each
+// has a tag type there, so that the error templates are instantiated for
+// errors only):
+//   kG2o       g2o's EdgeSE2/EdgeSE3:  e = [t_Δ, θ_Δ] / [t_Δ, vec(q_Δ)]
+//   kLog       GTSAM's BetweenFactor:  e = Log(Δ), ordered [u, ω]
+//   kCompound  boxplus' ⊟ of the compound Rᵈ × SO(d): e = (xᵢ⁻¹xⱼ) ⊟ z
+// and one is not an error of Δ but its own residual kind:
+//   kSESync    SE-Sync's chordal residual (Rosen et al., IJRR 2019),
+//              r = [√τ (tⱼ − tᵢ − Rᵢt̃ᵢⱼ), √κ vec(Rⱼ − RᵢR̃ᵢⱼ)]
+//              (chordal_relative_pose.h); Σ‖r‖² is SE-Sync's f.
 #pragma once
 
 #include <string>
 
 namespace boxplus {
 
-enum class PoseErrorConvention { kG2o, kLog, kSESync };
+enum class PoseErrorConvention { kG2o, kLog, kSESync, kCompound };
 
-// "g2o", "log" (also "gtsam", "se3log", "se2log") or "sesync" (also
-// "chordal"); throws boxplus::Error.
+// "g2o", "log" (also "gtsam", "se3log", "se2log"), "compound" or "sesync"
+// (also "chordal"); throws boxplus::Error naming the accepted names.
 PoseErrorConvention ParsePoseErrorConvention(const std::string& name);
-// "g2o", "log" or "sesync".
+// "g2o", "log", "compound" or "sesync".
 const char* ToString(PoseErrorConvention c);
 
 }  // namespace boxplus

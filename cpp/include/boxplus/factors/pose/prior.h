@@ -4,13 +4,20 @@
 // Parameter block: x (ambient size of S). Autodiff through the manifold's ⊟,
 // so the Jacobian is exact. Averaging many priors on one variable gives its
 // weighted Karcher mean (the smoke test of the solver).
+//
+// PriorFunctor<Ops> fixes S at compile time; MakePrior chooses it at run time
+// from the variable's manifold.
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/manifold.h>
 
 #include <Eigen/Core>
+
+#include "boxplus/noise.h"
 
 namespace boxplus {
 
@@ -42,5 +49,14 @@ class PriorFunctor {
   Ambient z_;
   Weight sqrt_info_;
 };
+
+// A prior on a variable of any built-in manifold (Rⁿ, SO2, SO3, SE2, SE3,
+// S2), looked up by the manifold's type in one table (each is a final class:
+// manifolds.h). W = noise.sqrt_information() (tangent dim × tangent dim).
+// Throws boxplus::Error naming `what` for other manifolds or sizes that do
+// not match.
+std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
+                                               const Eigen::VectorXd& z_ambient,
+                                               const NoiseModel& noise, const std::string& what);
 
 }  // namespace boxplus

@@ -1,13 +1,16 @@
-#include "boxplus/factors/pose/make_prior.h"
+#include "boxplus/factors/pose/prior.h"
 
-#include <ceres/dynamic_autodiff_cost_function.h>
+#include <typeindex>
+#include <unordered_map>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/pose/prior.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus {
 namespace {
+
+using Factory = std::shared_ptr<ceres::CostFunction> (*)(const Eigen::VectorXd& z,
+                                                         const Eigen::MatrixXd& W);
 
 template <class Ops>
 std::shared_ptr<ceres::CostFunction> Fixed(const Eigen::VectorXd& z, const Eigen::MatrixXd& W) {
@@ -37,26 +40,39 @@ class RnPrior final : public ceres::CostFunction {
   Eigen::MatrixXd W_;
 };
 
+std::shared_ptr<ceres::CostFunction> Rn(const Eigen::VectorXd& z, const Eigen::MatrixXd& W) {
+  return std::make_shared<RnPrior>(z, W);
+}
+
+// The prior of each built-in manifold, by the manifold's (final) type.
+const std::unordered_map<std::type_index, Factory>& PriorTable() {
+  static const std::unordered_map<std::type_index, Factory> table = {
+      {typeid(RnManifold), &Rn},
+      {typeid(SO2Manifold), &Fixed<SO2Ops>},
+      {typeid(SO3Manifold), &Fixed<SO3Ops>},
+      {typeid(SE2Manifold), &Fixed<SE2Ops>},
+      {typeid(SE3Manifold), &Fixed<SE3Ops>},
+      {typeid(S2Manifold), &Fixed<S2Ops>},
+  };
+  return table;
+}
+
 }  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
                                                const Eigen::VectorXd& z, const NoiseModel& noise,
                                                const std::string& what) {
-  const Eigen::MatrixXd& W = noise.sqrt_information();
   const int a = manifold.AmbientSize(), t = manifold.TangentSize();
   BOXPLUS_CHECK(z.size() == a, what, ": the observed value has ", z.size(),
                 " ambient coordinates, the variable ", a);
   BOXPLUS_CHECK(noise.dim() == t, what, ": noise of dimension ", noise.dim(),
                 " for a variable with ", t, " degrees of freedom");
-  if (dynamic_cast<const RnManifold*>(&manifold)) {
-    return std::make_shared<RnPrior>(z, W);
+  const auto& table = PriorTable();
+  const auto it = table.find(typeid(manifold));
+  if (it == table.end()) {
+    throw Error(what + ": priors are available for Rn, SO2, SO3, SE2, SE3 and S2 variables");
   }
-  if (dynamic_cast<const SO2Manifold*>(&manifold)) return Fixed<SO2Ops>(z, W);
-  if (dynamic_cast<const SO3Manifold*>(&manifold)) return Fixed<SO3Ops>(z, W);
-  if (dynamic_cast<const SE2Manifold*>(&manifold)) return Fixed<SE2Ops>(z, W);
-  if (dynamic_cast<const SE3Manifold*>(&manifold)) return Fixed<SE3Ops>(z, W);
-  if (dynamic_cast<const S2Manifold*>(&manifold)) return Fixed<S2Ops>(z, W);
-  throw Error(what + ": priors are available for Rn, SO2, SO3, SE2, SE3 and S2 variables");
+  return it->second(z, noise.sqrt_information());
 }
 
 }  // namespace boxplus

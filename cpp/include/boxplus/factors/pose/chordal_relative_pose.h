@@ -1,5 +1,6 @@
-// Relative-pose factor in SE-Sync's chordal convention (Rosen et al., IJRR
-// 2019): the objective
+// SE-Sync's chordal residual of a relative-pose measurement (Rosen et al.,
+// IJRR 2019, Eq. 9-10) — its own residual kind, not an error of
+// Δ = z⁻¹(xᵢ⁻¹xⱼ) like the conventions of relative_pose.h. The objective
 //   f = Σ κᵢⱼ‖Rⱼ − RᵢR̃ᵢⱼ‖²_F + τᵢⱼ‖tⱼ − tᵢ − Rᵢt̃ᵢⱼ‖²
 // with isotropic precisions taken from each noise's information Ω (order
 // [translation, rotation], as g2o files store it), as SE-Sync's read_g2o_file
@@ -7,7 +8,10 @@
 //   3D  τ = 3 / tr(Ω_t⁻¹),  κ = 3 / (2 tr(Ω_R⁻¹))
 //   2D  τ = 2 / tr(Ω_t⁻¹),  κ = Ω_θθ
 // Residual (3D 3 + 9, 2D 2 + 4), so that Σ‖r‖² = f:
-//   r = [√τ (tⱼ − tᵢ − Rᵢt̃ᵢⱼ),  √κ vec(Rⱼ − RᵢR̃ᵢⱼ)]   (vec row by row)
+//   r = W e,  e = [tⱼ − tᵢ − Rᵢt̃ᵢⱼ,  vec(Rⱼ − RᵢR̃ᵢⱼ)]   (vec row by row)
+//   W = diag(√τ·I_d, √κ·I_d²)                           (ChordalNoise)
+// e is in the units of the poses (translation) and unitless (rotation); a
+// problem that registers ChordalNoise(noise) un-whitens r to it.
 // Ambient layouts as the other pose factors: SE2 [x, y, θ], SE3 [p, qx, qy,
 // qz, qw] (unit quaternion, as SE3's ⊞ keeps it). Blocks x_i, x_j; autodiff.
 #pragma once
@@ -22,14 +26,17 @@
 
 namespace boxplus {
 
-struct SESyncPrecisions {
+struct ChordalPrecisions {
   double tau;
   double kappa;
 };
 
 // τ and κ of a 3-dim (2D) or 6-dim (3D) noise's information Ω; throws
 // boxplus::Error for other dimensions.
-SESyncPrecisions SESyncPrecisionsOf(const NoiseModel& noise);
+ChordalPrecisions ChordalPrecisionsOf(const NoiseModel& noise);
+// The whitening W above (dimension 6 or 12) of the chordal residual of a
+// measurement with the 3- or 6-dim `noise`.
+NoiseModel ChordalNoise(const NoiseModel& noise);
 
 // Row-major rotation matrix of a unit quaternion [x, y, z, w].
 template <typename T>
@@ -48,8 +55,8 @@ void QuatToRotationMatrix(const T* q, T* R) {
 
 // r (6) for SE(2) poses xi, xj and z = [x, y, θ].
 template <typename T>
-void RelativePose2DSESyncResidual(const T* xi, const T* xj, const double* z,
-                                  const SESyncPrecisions& p, T* r) {
+void ChordalRelativePose2DResidual(const T* xi, const T* xj, const double* z,
+                                   const ChordalPrecisions& p, T* r) {
   using std::cos;
   using std::sin;
   using std::sqrt;
@@ -68,8 +75,8 @@ void RelativePose2DSESyncResidual(const T* xi, const T* xj, const double* z,
 
 // r (12) for SE(3) poses xi, xj and z = [t, qx, qy, qz, qw] (unit).
 template <typename T>
-void RelativePose3DSESyncResidual(const T* xi, const T* xj, const double* z,
-                                  const SESyncPrecisions& p, T* r) {
+void ChordalRelativePose3DResidual(const T* xi, const T* xj, const double* z,
+                                   const ChordalPrecisions& p, T* r) {
   using std::sqrt;
   T Ri[9], Rj[9];
   QuatToRotationMatrix(xi + 3, Ri);
@@ -89,11 +96,12 @@ void RelativePose3DSESyncResidual(const T* xi, const T* xj, const double* z,
   }
 }
 
-// Autodiff cost functions. z: [x, y, θ] / [t, q] (q normalised here). The
-// residual is not W e: register it with a unit NoiseModel.
-std::shared_ptr<ceres::CostFunction> MakeRelativePose2DSESync(const Eigen::Vector3d& z,
-                                                              const NoiseModel& noise);
-std::shared_ptr<ceres::CostFunction> MakeRelativePose3DSESync(const Eigen::Matrix<double, 7, 1>& z,
-                                                              const NoiseModel& noise);
+// Autodiff cost functions. z: [x, y, θ] / [t, q] (q normalised here);
+// `noise` the measurement's (3- or 6-dim) model, from which τ and κ are
+// taken; register the measurement with ChordalNoise(noise).
+std::shared_ptr<ceres::CostFunction> MakeChordalRelativePose2D(const Eigen::Vector3d& z,
+                                                               const NoiseModel& noise);
+std::shared_ptr<ceres::CostFunction> MakeChordalRelativePose3D(const Eigen::Matrix<double, 7, 1>& z,
+                                                               const NoiseModel& noise);
 
 }  // namespace boxplus
