@@ -93,7 +93,7 @@ def test_stdin_is_read_as_the_file(tmp_path):
     a, b = tmp_path / "a.g2o", tmp_path / "b.g2o"
     ra = run("-i", "5", "-q", "-o", str(a), "-", stdin=GRID.read_text())
     rb = run("-i", "5", "-q", "-o", str(b), str(GRID))
-    assert ra.returncode == 0, ra.stderr
+    assert ra.returncode == 0 and rb.returncode == 0, ra.stderr + rb.stderr
     assert a.read_text() == b.read_text()
     assert "# <stdin>:" in ra.stderr
 

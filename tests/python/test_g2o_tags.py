@@ -245,7 +245,12 @@ def test_solve_lowers_chi2_and_the_saved_file_evaluates_to_it(path, tmp_path):
     assert again.chi2() == pytest.approx(after, rel=1e-12, abs=1e-15)
     out2 = tmp_path / ("again_" + path.name)
     again.save_g2o(out2)
-    assert out2.read_text() == out.read_text()
+    # The same records; the numbers equal to rounding (quaternions are
+    # normalised when read, TORO's Euler angles pass through a quaternion).
+    a, b = (f.read_text().split() for f in (out, out2))
+    assert [t for t in a if t[0].isalpha()] == [t for t in b if t[0].isalpha()]
+    nums = [[float(t) for t in x if not t[0].isalpha()] for x in (a, b)]
+    np.testing.assert_allclose(nums[1], nums[0], rtol=1e-13, atol=1e-15)
 
 
 def test_tags_are_written_back_as_read(tmp_path):
@@ -289,7 +294,7 @@ def test_equiv_is_a_tight_edge_that_solving_satisfies():
     g = _load(TAGS / "toro_equiv.g2o")
     assert g.num_edges == 7
     g.solve(max_iterations=100)
-    p = {vid: row for vid, row in zip(g.vertex_ids, g.poses())}
+    p = dict(zip(g.vertex_ids, g.poses()))
     # 0 ≡ 4 (no edge between them: the same pose) to about σ = 1e-3.
     np.testing.assert_allclose(p[4], p[0], atol=5e-3)
 

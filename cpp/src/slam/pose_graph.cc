@@ -248,6 +248,18 @@ int PoseGraph::variable(int vertex_id) const {
   return var_of_vertex_[graph_.VertexIndex(vertex_id)];
 }
 
+int PoseGraph::variable_at(int vertex_index) const {
+  BOXPLUS_CHECK_INDEX(vertex_index >= 0 && vertex_index < static_cast<int>(var_of_vertex_.size()),
+                      "no vertex at index ", vertex_index);
+  return var_of_vertex_[vertex_index];
+}
+
+int PoseGraph::landmark_variable(int landmark_id) const {
+  auto it = graph_.landmark_index_of.find(landmark_id);
+  BOXPLUS_CHECK_INDEX(it != graph_.landmark_index_of.end(), "no landmark with id ", landmark_id);
+  return var_of_vertex_[it->second];
+}
+
 std::vector<int> PoseGraph::vertex_ids() const {
   std::vector<int> ids;
   ids.reserve(graph_.vertices.size());

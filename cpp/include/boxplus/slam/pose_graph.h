@@ -90,7 +90,10 @@ class PoseGraph {
   const PoseGraphOptions& options() const { return options_; }
 
   // Variable id of a vertex id; throws IndexError for an unknown id.
-  int variable(int vertex_id) const;
+  int variable(int vertex_id) const;  // the pose if a pose and a landmark share the id
+  // Variable id of graph().vertices[index] (a landmark whose id a pose shares).
+  int variable_at(int vertex_index) const;
+  int landmark_variable(int landmark_id) const;
   // Vertex ids, in the order of the variables (= file order of vertices).
   std::vector<int> vertex_ids() const;
   // The vertex held fixed for the gauge (first FIX id or first vertex; −1
