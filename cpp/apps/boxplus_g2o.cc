@@ -1,7 +1,9 @@
 // boxplus-g2o: optimise a g2o / TORO pose-graph file from the command line.
 //
-//   boxplus-g2o [options] input.g2o
+//   boxplus-g2o [options] input.g2o        ('-': standard input)
 //
+// g2o_cli's own flags (-solver gn_var_cholmod, -robustKernel Huber, -guess,
+// -summary FILE, ...) are accepted beside boxplus' (g2o_cli/g2o_flags.h).
 // Reads the file strictly (errors name the file and line), builds the
 // problem (see boxplus/slam/pose_graph.h), optionally re-initialises it,
 // solves it with Ceres and writes the result with the file's ids and order.
@@ -15,7 +17,9 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include "boxplus/errors.h"
 #include "boxplus/io/g2o.h"
@@ -24,15 +28,21 @@
 #include "boxplus/slam/load.h"
 #include "boxplus/solver_options.h"
 #include "boxplus/version.h"
+#include "g2o_cli/g2o_flags.h"
 
 namespace {
 
-const char* kUsage = R"(usage: boxplus-g2o [options] input.g2o
+const char* kUsage = R"(usage: boxplus-g2o [options] input.g2o     ('-' reads standard input)
 
-Optimises a pose graph in g2o format (VERTEX_SE2, EDGE_SE2, VERTEX_XY,
-EDGE_SE2_XY, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, VERTEX_TRACKXYZ,
-EDGE_SE3_TRACKXYZ, FIX) or TORO format (VERTEX2, EDGE2, VERTEX3, EDGE3).
-The gauge is fixed by the FIX lines, else by the first vertex.
+Optimises a pose graph in g2o format (the slam2d/slam3d tags of g2o:
+VERTEX_SE2, VERTEX_XY, VERTEX_SE3:QUAT, VERTEX_TRACKXYZ, EDGE_SE2, EDGE_SE2_XY,
+EDGE_SE3:QUAT, EDGE_SE3_TRACKXYZ, EDGE_SE2/SE3_OFFSET, EDGE_PRIOR_SE2,
+EDGE_SE3_PRIOR, EDGE_PRIOR_SE2_XY, EDGE_SE3_XYZ_PRIOR, EDGE_PRIOR_XY,
+EDGE_POINTXY(Z), EDGE_POINTXYZ_PRIOR, EDGE_SE2_POINTXY_OFFSET,
+EDGE_BEARING_SE2_XY, PARAMS_SE2OFFSET, PARAMS_SE3OFFSET, FIX; --list-types)
+or TORO format (VERTEX2, EDGE2, VERTEX3, EDGE3 with or without information,
+EQUIV). The gauge is fixed by the FIX lines, else by the first pose vertex
+(not at all when a pose prior fixes it).
 
 options:
   -i, --iterations N     maximum number of iterations (default 100)
@@ -73,15 +83,31 @@ options:
                          best cost still decreases (default 5; 0: monotonic)
       --function-tolerance X, --gradient-tolerance X, --parameter-tolerance X
                          Ceres' stopping tolerances (defaults 1e-10, 1e-12, 1e-10)
-  -q, --quiet            no per-iteration lines
+      --gauge ID[,ID...] hold these vertices fixed (instead of the FIX lines or
+                         the first vertex)
+      --summary FILE     append one line about the run (file, sizes, chi2,
+                         iterations, time, status) to FILE
+      --stats FILE       write the per-iteration lines to FILE
+  -q, --quiet            no per-iteration lines, no progress while loading
+  -v, --verbose          per-iteration lines (the default; for g2o's -v)
       --report           print Ceres' full report at the end
+      --list-solvers, --list-robust-kernels, --list-types
+                         print the names accepted and exit
   -h, --help             this help
       --version          print the version
+
+g2o's spellings are accepted too: -solver NAME (gn_var, lm_fix6_3_cholmod,
+dl_var, ...: gn, lm or dogleg), -robustKernel NAME (Huber, Cauchy, Tukey,
+PseudoHuber), -robustKernelWidth X, -guess (spanning-tree initialisation),
+-gaugeId N, -gaugeList L, -summary FILE, -stats FILE, -v, -listSolvers,
+-listRobustKernels, -listTypes; g2o's flags without a boxplus meaning (-inc,
+-marginalize, -solverProperties, ...) are refused by name.
 
 Output: on stdout one line per iteration in boxplus' progress format (chi2 =
 sum of e'Ωe, with the robust kernel if any; twice Ceres' cost; cumulative time
 in seconds); on stderr the '#' diagnostics (file, sizes, times, initial and
-final chi2, memory) and the summary. Ctrl-C stops the solver after the current
+final chi2, memory), the summary and, while a big file loads, about once a
+second a line with the lines read and the bytes of the file. Ctrl-C stops the solver after the current
 iteration, writes the last accepted estimate to -o and exits with 130.
 )";
 
@@ -126,17 +152,71 @@ double MemoryMB(const char* field) {
   return -1.0;
 }
 
+namespace {
+
+std::vector<int> ParseIdList(const std::string& opt, const std::string& s) {
+  std::vector<int> ids;
+  size_t start = 0;
+  while (start <= s.size()) {
+    const size_t comma = s.find(',', start);
+    const std::string item = s.substr(start, comma == std::string::npos ? comma : comma - start);
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < -2000000000L || v > 2000000000L) {
+      UsageError(opt + ": not a list of vertex ids: '" + s + "'");
+    }
+    ids.push_back(static_cast<int>(v));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return ids;
+}
+
+void ListSolvers() {
+  std::printf("boxplus methods:");
+  for (const auto& m : boxplus::MethodNames()) std::printf(" %s", m.c_str());
+  std::printf(
+      " auto\ng2o's names: (gn|lm|dl)_(var|fixP_L)[_cholmod|_csparse|_eigen|_dense|_pcg],"
+      " e.g. gn_var, lm_fix6_3_cholmod, dl_var → gn, lm, dogleg (sparse Cholesky)\n");
+}
+
+void ListRobustKernels() {
+  std::printf("boxplus:");
+  for (const auto& l : boxplus::LossNames()) std::printf(" %s", l.c_str());
+  std::printf("\n%s\n", boxplus::g2o_cli::kG2oKernelsHelp);
+}
+
+void ListTypes() {
+  std::printf(
+      "g2o: VERTEX_SE2 VERTEX_XY VERTEX_SE3:QUAT VERTEX_TRACKXYZ PARAMS_SE2OFFSET "
+      "PARAMS_SE3OFFSET EDGE_SE2 EDGE_SE2_XY EDGE_SE2_OFFSET EDGE_SE2_POINTXY_OFFSET "
+      "EDGE_PRIOR_SE2 EDGE_PRIOR_SE2_XY EDGE_PRIOR_XY EDGE_POINTXY EDGE_BEARING_SE2_XY "
+      "EDGE_SE3:QUAT EDGE_SE3_TRACKXYZ EDGE_SE3_OFFSET EDGE_SE3_PRIOR EDGE_SE3_XYZ_PRIOR "
+      "EDGE_POINTXYZ EDGE_POINTXYZ_PRIOR FIX\nboxplus: EDGE_SE2_BEARING_RANGE\n"
+      "TORO: VERTEX VERTEX2 EDGE EDGE2 VERTEX3 EDGE3 EQUIV\n");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   std::string input, output, solver = "auto", convention = "g2o", init = "best";
+  std::string summary_file, stats_file, gauge;
   int iterations = 100, threads = 1;
   bool quiet = false, full_report = false;
   boxplus::slam::LoadOptions load;
   boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
-  for (int k = 1; k < argc; ++k) {
-    const std::string a = argv[k];
+  std::vector<std::string> args;
+  try {
+    args = boxplus::g2o_cli::FromG2oFlags(std::vector<std::string>(argv + 1, argv + argc));
+  } catch (const std::invalid_argument& e) {
+    UsageError(e.what());
+  }
+  bool listed = false;
+  for (size_t k = 0; k < args.size(); ++k) {
+    const std::string& a = args[k];
     auto value = [&]() -> const char* {
-      if (k + 1 >= argc) UsageError(a + " needs a value");
-      return argv[++k];
+      if (k + 1 >= args.size()) UsageError(a + " needs a value");
+      return args[++k].c_str();
     };
     if (a == "-h" || a == "--help") {
       std::fputs(kUsage, stdout);
@@ -144,6 +224,15 @@ int main(int argc, char** argv) {
     } else if (a == "--version") {
       std::printf("boxplus-g2o %s\n", BOXPLUS_VERSION_STRING);
       return 0;
+    } else if (a == "--list-solvers") {
+      ListSolvers();
+      listed = true;
+    } else if (a == "--list-robust-kernels") {
+      ListRobustKernels();
+      listed = true;
+    } else if (a == "--list-types") {
+      ListTypes();
+      listed = true;
     } else if (a == "-i" || a == "--iterations") {
       iterations = ParseInt(a, value());
     } else if (a == "-s" || a == "--solver") {
@@ -160,6 +249,12 @@ int main(int argc, char** argv) {
       convention = value();
     } else if (a == "--init") {
       init = value();
+    } else if (a == "--gauge") {
+      gauge = value();
+    } else if (a == "--summary") {
+      summary_file = value();
+    } else if (a == "--stats") {
+      stats_file = value();
     } else if (a == "--skip-unknown") {
       load.read.skip_unknown_tags = true;
     } else if (a == "--repair-information") {
@@ -190,6 +285,8 @@ int main(int argc, char** argv) {
       so.parameter_tolerance = ParseDouble(a, value());
     } else if (a == "-q" || a == "--quiet") {
       quiet = true;
+    } else if (a == "-v" || a == "--verbose") {
+      quiet = false;
     } else if (a == "--report") {
       full_report = true;
     } else if (!a.empty() && a[0] == '-' && a != "-") {
@@ -200,10 +297,13 @@ int main(int argc, char** argv) {
       UsageError("more than one input file ('" + input + "', '" + a + "')");
     }
   }
+  if (listed && input.empty()) return 0;
   if (input.empty()) UsageError("no input file");
   if (threads < 1) UsageError("--threads must be >= 1");
+  const std::vector<int> gauge_ids =
+      gauge.empty() ? std::vector<int>() : ParseIdList("--gauge", gauge);
   // The vocabulary's one parser each (solver_options.h, loss.h, the pose
-  // error convention, the initialisation); "auto" is this tool's own.
+  // error convention, the initialisation).
   try {
     so.method = boxplus::ParseMethod(solver);
     boxplus::MakeLoss(load.graph.robust, load.graph.robust_width);
@@ -217,36 +317,65 @@ int main(int argc, char** argv) {
   // With the graph on stdout, every other line goes to stderr.
   const bool graph_to_stdout = output == "-";
   FILE* progress = graph_to_stdout ? stderr : stdout;
+  const std::string shown = input == "-" ? "<stdin>" : input;
 
   try {
     const double rss_before = MemoryMB("VmRSS");
     std::signal(SIGINT, OnSigint);
+    // A line on stderr about once a second while a big file is parsed.
+    using Clock = std::chrono::steady_clock;
+    auto last_progress = Clock::now();
+    if (!quiet) {
+      load.read.on_progress = [&](const boxplus::io::ReadProgress& p) {
+        const auto now = Clock::now();
+        if (now - last_progress < std::chrono::seconds(1)) return;
+        last_progress = now;
+        std::fprintf(stderr, "# reading %s: %lld lines, %.1f of %.1f MB\n", shown.c_str(), p.lines,
+                     p.bytes / 1e6, p.bytes_total / 1e6);
+      };
+    }
     boxplus::slam::LoadReport report;
-    std::unique_ptr<boxplus::slam::PoseGraph> pg =
-        boxplus::slam::LoadPoseGraph(input, load, &report);
+    std::unique_ptr<boxplus::slam::PoseGraph> pg;
+    if (input == "-") {
+      std::string text((std::istreambuf_iterator<char>(std::cin)),
+                       std::istreambuf_iterator<char>());
+      pg = boxplus::slam::LoadPoseGraphFromText(text, shown, load, &report);
+    } else {
+      pg = boxplus::slam::LoadPoseGraph(input, load, &report);
+    }
     std::fputs(report.warnings.c_str(), stderr);
     if (!report.estimates_from_file && load.init == boxplus::slam::InitMethod::kFile) {
       std::fprintf(stderr, "%s: no VERTEX lines: initial estimate by spanning tree\n",
-                   input.c_str());
+                   shown.c_str());
     }
+    if (!gauge_ids.empty()) pg->SetGauge(gauge_ids);
     std::fprintf(stderr,
                  "# %s: %zu vertices, %zu edges, %dD, gauge vertex %d, read %.3f s, "
                  "init %.3f s, build %.3f s\n",
-                 input.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
+                 shown.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
                  pg->graph().dimension, pg->gauge_vertex(), report.read_s, report.init_s,
                  report.build_s);
+    const double chi2_initial = pg->Chi2();
     std::fprintf(stderr, "# initial chi2 %.10g (convention %s, init %s: start %s, solver %s)\n",
-                 pg->Chi2(), boxplus::ToString(load.graph.convention), init.c_str(),
+                 chi2_initial, boxplus::ToString(load.graph.convention), init.c_str(),
                  report.start.c_str(), boxplus::MethodName(so.method).c_str());
+    FILE* stats = nullptr;
+    if (!stats_file.empty()) {
+      stats = std::fopen(stats_file.c_str(), "w");
+      if (!stats) throw boxplus::Error(stats_file + ": cannot open the file for writing");
+      std::fprintf(stats, "%s\n", boxplus::ProgressHeader().c_str());
+    }
     if (!quiet) std::fprintf(progress, "%s\n", boxplus::ProgressHeader().c_str());
-    so.on_iteration = [quiet, progress](const boxplus::IterationInfo& it) {
+    so.on_iteration = [quiet, progress, stats](const boxplus::IterationInfo& it) {
       if (!quiet) {
         std::fprintf(progress, "%s\n", boxplus::FormatProgress(it).c_str());
         std::fflush(progress);
       }
+      if (stats) std::fprintf(stats, "%s\n", boxplus::FormatProgress(it).c_str());
       return !g_interrupted.load();
     };
     const boxplus::SolveSummary s = g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
+    if (stats) std::fclose(stats);
     if (full_report) std::fprintf(stderr, "%s\n", s.report.c_str());
     std::fprintf(stderr, "# %s (%s)%s\n", boxplus::FormatSummary(s).c_str(),
                  load.graph.robust == "none" ? "no robust kernel" : load.graph.robust.c_str(),
@@ -267,6 +396,20 @@ int main(int argc, char** argv) {
     }
     std::fprintf(stderr, "# memory: peak RSS %.1f MB, %.1f MB before reading the input\n",
                  MemoryMB("VmHWM"), rss_before);
+    if (!summary_file.empty()) {
+      FILE* f = std::fopen(summary_file.c_str(), "a");
+      if (!f) throw boxplus::Error(summary_file + ": cannot open the file for appending");
+      std::fprintf(f,
+                   "file=%s vertices=%zu edges=%zu solver=%s iterations=%d chi2_initial=%.17g "
+                   "chi2_final=%.17g time_s=%.6f status=%s\n",
+                   shown.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
+                   boxplus::MethodName(so.method).c_str(), s.iterations, chi2_initial, pg->Chi2(),
+                   s.time_s,
+                   g_interrupted ? "interrupted"
+                   : s.usable    ? "ok"
+                                 : "failed");
+      std::fclose(f);
+    }
     if (graph_to_stdout) {
       pg->WriteBack();
       const std::string text = boxplus::io::FormatG2o(pg->graph());

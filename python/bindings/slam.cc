@@ -63,7 +63,8 @@ Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
   int r = 0;
   for (size_t i = 0; i < vs.size(); ++i) {
     if (vs[i].kind != kind) continue;
-    const double* x = pg.problem().value(pg.variable(vs[i].id));
+    // By index: a landmark may share its id with a pose (own id ranges).
+    const double* x = pg.problem().value(pg.variable_at(static_cast<int>(i)));
     for (int c = 0; c < a; ++c) out(r, c) = x[c];
     ++r;
   }

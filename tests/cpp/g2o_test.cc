@@ -259,5 +259,100 @@ TEST(G2oGraph, FailedAddsChangeNothing) {
   EXPECT_EQ(g.order.size(), 2u);
 }
 
+TEST(G2oRead, ProgressIsReportedEveryNLinesWithTheBytesRead) {
+  std::string text;
+  for (int i = 0; i < 10; ++i) text += "VERTEX_SE2 " + std::to_string(i) + " 0 0 0\n";
+  std::vector<ReadProgress> calls;
+  ReadOptions o;
+  o.progress_lines = 3;
+  o.on_progress = [&](const ReadProgress& p) { calls.push_back(p); };
+  ParseG2o(text, "t", o);
+  ASSERT_EQ(calls.size(), 3u);
+  for (size_t k = 0; k < calls.size(); ++k) {
+    EXPECT_EQ(calls[k].lines, 3 * static_cast<long long>(k + 1));
+    EXPECT_EQ(calls[k].bytes_total, text.size());
+    // Every line of this text has the same length.
+    EXPECT_EQ(calls[k].bytes, calls[k].lines * (text.size() / 10));
+  }
+}
+
+TEST(G2oRead, OffsetEdgesKeepTheirParametersAndValues) {
+  const Graph g = ReadG2o(kData + "g2o_tags/se3_offset.g2o");
+  ASSERT_EQ(g.edges.size(), 3u);
+  const Edge& e = g.edges[1];
+  EXPECT_EQ(e.kind, EdgeKind::kSE3Offset);
+  EXPECT_EQ(e.param, 1);
+  EXPECT_EQ(e.param_to, 0);
+  ASSERT_EQ(e.offset.size(), 7);
+  EXPECT_DOUBLE_EQ(e.offset[0], 0.2);
+  EXPECT_NEAR(e.offset.tail<4>().norm(), 1.0, 1e-15);
+  // Written back with both ids, and the PARAMS lines verbatim.
+  const std::string text = FormatG2o(g);
+  EXPECT_THAT(text, HasSubstr("PARAMS_SE3OFFSET 1 0.2 0 0.1 0 0.0499792 0 0.9987503\n"));
+  EXPECT_THAT(text, HasSubstr("EDGE_SE3_OFFSET 1 2 1 0 0.9"));
+  EXPECT_EQ(FormatG2o(ParseG2o(text, "again")), text);
+}
+
+TEST(G2oRead, TrackXyzWithANonIdentityOffsetIsItsOwnKind) {
+  const Graph g = ReadG2o(kData + "g2o_tags/se3_trackxyz_offset.g2o");
+  EXPECT_EQ(g.edges[1].kind, EdgeKind::kSE3Point3Offset);
+  EXPECT_EQ(g.edges[3].kind, EdgeKind::kSE3Point3);  // offset 0 is the identity
+  EXPECT_THAT(FormatG2o(g), HasSubstr("EDGE_SE3_TRACKXYZ 0 9 1 1.1"));
+}
+
+TEST(G2oRead, PriorsNameOneVertex) {
+  const Graph g = ReadG2o(kData + "g2o_tags/prior_se2.g2o");
+  const Edge& e = g.edges[1];
+  EXPECT_EQ(e.kind, EdgeKind::kSE2Prior);
+  EXPECT_TRUE(IsUnary(e.kind));
+  EXPECT_EQ(e.from, 0);
+  EXPECT_EQ(e.to, 0);
+  EXPECT_THAT(FormatG2o(g), HasSubstr("EDGE_PRIOR_SE2 0 0 0 0 1000"));
+}
+
+TEST(G2oRead, PosesAndLandmarksHaveTheirOwnIdRanges) {
+  const Graph g = ReadG2o(kData + "g2o_tags/landmark_id_range.g2o");
+  ASSERT_EQ(g.vertices.size(), 4u);
+  EXPECT_EQ(g.VertexIndex(0), 0);  // the pose when both exist
+  const Edge& seen = g.edges[3];   // EDGE_SE2_XY 1 1: pose 1 sees landmark 1
+  EXPECT_EQ(g.vertices[g.EndIndex(seen, 0)].kind, VertexKind::kSE2);
+  EXPECT_EQ(g.vertices[g.EndIndex(seen, 1)].kind, VertexKind::kPoint2);
+  EXPECT_EQ(g.EndIndex(seen, 1), 3);
+  // Within one range an id is still unique.
+  EXPECT_THAT(ParseErrorOf("VERTEX_XY 0 0 0\nVERTEX_XY 0 1 1\n"),
+              HasSubstr("test.g2o:2: vertex id 0 appears twice (first at line 1), both landmarks"));
+}
+
+TEST(G2oRead, EquivTakesTheEdgeBetweenItsVerticesOrientedElseTheIdentity) {
+  const Graph g = ReadG2o(kData + "g2o_tags/toro_equiv.g2o");
+  ASSERT_EQ(g.edges.size(), 7u);
+  const Edge& q13 = g.edges[5];
+  const Edge& q04 = g.edges[6];
+  EXPECT_TRUE(q13.equiv && q04.equiv);
+  EXPECT_EQ(q13.from, 1);
+  EXPECT_EQ(q13.to, 3);
+  // The file's edge is 3 → 1 with z = (0.05, 1.0, −3.1): EQUIV 1 3 holds z⁻¹.
+  const double c = std::cos(-3.1), s = std::sin(-3.1);
+  EXPECT_NEAR(q13.measurement[0], -(c * 0.05 + s * 1.0), 1e-15);
+  EXPECT_NEAR(q13.measurement[1], s * 0.05 - c * 1.0, 1e-15);
+  EXPECT_NEAR(q13.measurement[2], 3.1, 1e-15);
+  EXPECT_EQ(q04.measurement, Eigen::Vector3d::Zero());
+  EXPECT_EQ(q04.information, 1e6 * Eigen::MatrixXd::Identity(3, 3));
+  // Written back as the EQUIV lines, where they were.
+  EXPECT_THAT(FormatG2o(g), HasSubstr("\nEQUIV 1 3\nEQUIV 0 4\n"));
+}
+
+TEST(G2oRead, Edge3WithoutInformationIsTheIdentityAndCounted) {
+  ReadReport report;
+  const Graph g = ReadG2o(kData + "g2o_tags/edge3_no_information.g2o", {}, &report);
+  EXPECT_EQ(report.identity_information, 2);
+  EXPECT_EQ(report.first_identity_line, 5);
+  EXPECT_EQ(g.edges[0].information, Eigen::MatrixXd::Identity(6, 6));
+  EXPECT_TRUE(g.edges[0].identity_information);
+  EXPECT_FALSE(g.edges[1].identity_information);
+  EXPECT_THAT(report.Warnings("f.g2o"),
+              HasSubstr("f.g2o: warning: 2 EDGE3 line(s) without an information matrix"));
+}
+
 }  // namespace
 }  // namespace boxplus::io

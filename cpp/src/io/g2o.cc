@@ -1,3 +1,5 @@
+// The pose-graph file in memory (Graph: its checks and additions) and the
+// strict reader; the kind tables are g2o_kinds.cc, the writer g2o_write.cc.
 #include "boxplus/io/g2o.h"
 
 #include <algorithm>
@@ -19,41 +21,20 @@
 
 namespace boxplus::io {
 
-int AmbientSize(VertexKind kind) {
-  switch (kind) {
-    case VertexKind::kSE2:
-      return 3;
-    case VertexKind::kSE3:
-      return 7;
-    case VertexKind::kPoint2:
-      return 2;
-    case VertexKind::kPoint3:
-      return 3;
-  }
-  return 0;
-}
-
-int ErrorSize(EdgeKind kind) {
-  switch (kind) {
-    case EdgeKind::kSE2:
-      return 3;
-    case EdgeKind::kSE3:
-      return 6;
-    case EdgeKind::kSE2Point2:
-      return 2;
-    case EdgeKind::kSE3Point3:
-      return 3;
-    case EdgeKind::kSE2BearingRange:
-      return 2;
-  }
-  return 0;
-}
-
-int MeasurementSize(EdgeKind kind) { return kind == EdgeKind::kSE3 ? 7 : ErrorSize(kind); }
-
 int Graph::VertexIndex(int id) const {
   auto it = index_of.find(id);
-  BOXPLUS_CHECK_INDEX(it != index_of.end(), "no vertex with id ", id);
+  if (it != index_of.end()) return it->second;
+  auto lt = landmark_index_of.find(id);
+  BOXPLUS_CHECK_INDEX(lt != landmark_index_of.end(), "no vertex with id ", id);
+  return lt->second;
+}
+
+int Graph::EndIndex(const Edge& e, int end) const {
+  const int id = end == 0 ? e.from : e.to;
+  const auto& map = EndIsPose(e.kind, end) ? index_of : landmark_index_of;
+  auto it = map.find(id);
+  BOXPLUS_CHECK_INDEX(it != map.end(), "no ", EndIsPose(e.kind, end) ? "pose" : "landmark",
+                      " vertex with id ", id);
   return it->second;
 }
 
@@ -67,6 +48,13 @@ namespace {
 
 int PoseDimension(VertexKind k) {
   return k == VertexKind::kSE2 ? 2 : k == VertexKind::kSE3 ? 3 : 0;
+}
+
+bool IsPoseKind(VertexKind k) { return PoseDimension(k) != 0; }
+
+// The id range a vertex of this kind is numbered in.
+const std::unordered_map<int, int>& RangeOf(const Graph& g, VertexKind k) {
+  return IsPoseKind(k) ? g.index_of : g.landmark_index_of;
 }
 
 }  // namespace
@@ -87,7 +75,8 @@ std::string Escaped(const std::string& text) {
 }
 
 void Graph::CheckVertex(const Vertex& v) const {
-  BOXPLUS_CHECK(index_of.count(v.id) == 0, "vertex id ", v.id, " exists already");
+  BOXPLUS_CHECK(RangeOf(*this, v.kind).count(v.id) == 0, "vertex id ", v.id, " exists already (",
+                IsPoseKind(v.kind) ? "a pose" : "a landmark", ")");
   BOXPLUS_CHECK(v.estimate.size() == AmbientSize(v.kind), "vertex ", v.id, ": estimate needs ",
                 AmbientSize(v.kind), " numbers, got ", v.estimate.size());
   BOXPLUS_CHECK(v.estimate.allFinite(), "vertex ", v.id, ": estimate is not finite");
@@ -102,11 +91,12 @@ void Graph::CheckVertex(const Vertex& v) const {
 }
 
 void Graph::CheckEdge(const Edge& e) const {
-  BOXPLUS_CHECK_INDEX(index_of.count(e.from) && index_of.count(e.to), "edge ", e.from, " → ", e.to,
-                      ": no such vertex");
-  BOXPLUS_CHECK(e.from != e.to, "edge ", e.from, " → ", e.to, ": an edge from a vertex to itself");
-  const VertexKind a = vertices[index_of.at(e.from)].kind;
-  const VertexKind b = vertices[index_of.at(e.to)].kind;
+  const int ia = EndIndex(e, 0), ib = EndIndex(e, 1);
+  BOXPLUS_CHECK(IsUnary(e.kind) ? e.from == e.to : ia != ib, "edge ", e.from, " → ", e.to,
+                IsUnary(e.kind) ? ": a prior names one vertex (to == from)"
+                                : ": an edge from a vertex to itself");
+  const VertexKind a = vertices[ia].kind;
+  const VertexKind b = vertices[ib].kind;
   BOXPLUS_CHECK(ConnectsKinds(e.kind, a, b), "edge ", e.from, " → ", e.to,
                 ": connects vertices of the wrong types");
   const int n = ErrorSize(e.kind);
@@ -117,7 +107,7 @@ void Graph::CheckEdge(const Edge& e) const {
                 e.information.rows(), "×", e.information.cols());
   BOXPLUS_CHECK(e.measurement.allFinite(), "edge ", e.from, " → ", e.to,
                 ": measurement is not finite");
-  if (e.kind == EdgeKind::kSE3) {
+  if (MeasurementSize(e.kind) == 7) {
     const double q = e.measurement.tail<4>().norm();
     BOXPLUS_CHECK(std::abs(q - 1.0) < 1e-9, "edge ", e.from, " → ", e.to,
                   ": quaternion is not unit (norm ", q, "); normalise it first");
@@ -130,26 +120,11 @@ void Graph::CheckEdge(const Edge& e) const {
                 ": information matrix is not positive definite");
 }
 
-bool ConnectsKinds(EdgeKind e, VertexKind a, VertexKind b) {
-  switch (e) {
-    case EdgeKind::kSE2:
-      return a == VertexKind::kSE2 && b == VertexKind::kSE2;
-    case EdgeKind::kSE3:
-      return a == VertexKind::kSE3 && b == VertexKind::kSE3;
-    case EdgeKind::kSE2Point2:
-    case EdgeKind::kSE2BearingRange:
-      return a == VertexKind::kSE2 && b == VertexKind::kPoint2;
-    case EdgeKind::kSE3Point3:
-      return a == VertexKind::kSE3 && b == VertexKind::kPoint3;
-  }
-  return false;
-}
-
 int Graph::AddVertex(const Vertex& v) {
   CheckVertex(v);
   const int idx = static_cast<int>(vertices.size());
   vertices.push_back(v);
-  index_of[v.id] = idx;
+  (IsPoseKind(v.kind) ? index_of : landmark_index_of)[v.id] = idx;
   order.push_back({RecordType::kVertex, idx});
   if (v.kind == VertexKind::kSE2 && dimension == 0) dimension = 2;
   if (v.kind == VertexKind::kSE3 && dimension == 0) dimension = 3;
@@ -175,6 +150,12 @@ std::string ReadReport::Warnings(const std::string& path) const {
       first = false;
     }
     out << ")\n";
+  }
+  if (identity_information > 0) {
+    out << Escaped(path) << ": warning: " << identity_information
+        << " EDGE3 line(s) without an information matrix: the identity is used, as GTSAM's "
+           "loader does (first at line "
+        << first_identity_line << ")\n";
   }
   if (repaired_information > 0) {
     out << Escaped(path) << ": warning: replaced " << repaired_information
@@ -311,31 +292,6 @@ Eigen::Vector4d QuatFromEuler(double roll, double pitch, double yaw) {
   return q.coeffs();
 }
 
-// Inverse of QuatFromEuler. With R = Rz(y)·Ry(p)·Rx(r) (c·, s· of the angles):
-//   R20 = −sp, R21 = cp·sr, R22 = cp·cr, R10 = sy·cp, R00 = cy·cp, and exactly
-//   R01 − R12 = (1 + sp)·sin(r − y),  R11 + R02 = (1 + sp)·cos(r − y),
-//   R01 + R12 = (sp − 1)·sin(r + y),  R11 − R02 = (1 − sp)·cos(r + y).
-// Near pitch ±π/2 (gimbal lock) cp → 0 and yaw = atan2(R10, R00) is the
-// angle of two rounding errors (0.2 rad off at ±π/2 exactly), so yaw comes
-// from r ∓ y instead, which the other entries hold to full precision: any
-// roll from atan2(R21, R22) (0 when cp = 0) then gives the same rotation.
-Eigen::Vector3d EulerFromQuat(const Eigen::VectorXd& xyzw) {
-  const Eigen::Matrix3d R =
-      Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]).toRotationMatrix();
-  const double cp = std::hypot(R(2, 1), R(2, 2));
-  const double pitch = std::atan2(-R(2, 0), cp);
-  const double roll = cp > 0.0 ? std::atan2(R(2, 1), R(2, 2)) : 0.0;
-  double yaw;
-  if (cp > 0.1) {
-    yaw = std::atan2(R(1, 0), R(0, 0));
-  } else if (pitch > 0) {
-    yaw = roll - std::atan2(R(0, 1) - R(1, 2), R(1, 1) + R(0, 2));
-  } else {
-    yaw = std::atan2(-(R(0, 1) + R(1, 2)), R(1, 1) - R(0, 2)) - roll;
-  }
-  return {roll, pitch, WrapAngleExact(yaw)};
-}
-
 // TORO EDGE2 stores I11 I12 I22 I33 I13 I23.
 Eigen::MatrixXd ToroInfo2(const LineParser& p, size_t first) {
   Eigen::MatrixXd m(3, 3);
@@ -344,6 +300,44 @@ Eigen::MatrixXd ToroInfo2(const LineParser& p, size_t first) {
   m << i11, i12, i13, i12, i22, i23, i13, i23, i33;
   return m;
 }
+
+}  // namespace
+
+namespace {
+
+// The value of an offset parameter for an edge: identity (empty) when the id
+// has no PARAMS line and `lenient` (EDGE_SE3_TRACKXYZ, as before), else the
+// line must exist and be of the edge's dimension.
+Eigen::VectorXd OffsetFor(const Graph& g, const LineParser& lp, const std::string& tag, int id,
+                          int dimension, bool lenient) {
+  auto it = g.offsets.find(id);
+  const char* params = dimension == 2 ? "PARAMS_SE2OFFSET" : "PARAMS_SE3OFFSET";
+  if (it == g.offsets.end()) {
+    if (lenient) return Eigen::VectorXd();
+    lp.Fail(tag + ": offset parameter " + std::to_string(id) + " has no " + params +
+            " line before it");
+  }
+  if (it->second.size() != (dimension == 2 ? 3 : 7)) {
+    lp.Fail(tag + ": offset parameter " + std::to_string(id) + " is not a " + params);
+  }
+  return it->second;
+}
+
+bool IsIdentityOffset(const Eigen::VectorXd& o) {
+  if (o.size() == 0) return true;
+  if (o.size() == 3) return o.cwiseAbs().maxCoeff() == 0.0;
+  return o.head<3>().cwiseAbs().maxCoeff() == 0.0 && std::abs(o[6]) == 1.0;
+}
+
+// Whether the initialisation of a file without VERTEX lines can place the
+// ends of this edge (pose-pose edges and the landmark observations it knows).
+bool InitialisableWithoutVertices(EdgeKind k) {
+  return k == EdgeKind::kSE2 || k == EdgeKind::kSE3 || k == EdgeKind::kSE2Point2 ||
+         k == EdgeKind::kSE3Point3 || k == EdgeKind::kSE2BearingRange;
+}
+
+// Tight information of an EQUIV constraint (σ = 1e-3 per coordinate).
+constexpr double kEquivInformation = 1e6;
 
 }  // namespace
 
@@ -356,25 +350,36 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
   g.name = name;
   bool any_vertex_line = false;
   std::vector<int> fix_lines;
+  struct Equiv {
+    int a, b, line;
+    size_t record;
+  };
+  std::vector<Equiv> equivs;
   Fields fields;
   const char* p = text.data();
   const char* end = p + text.size();
   int line = 0;
+  const int progress_every = std::max(1, options.progress_lines);
   while (p < end) {
     const char* eol = static_cast<const char*>(std::memchr(p, '\n', end - p));
     if (!eol) eol = end;
     ++line;
     Split(p, eol, &fields);
     p = eol + 1;
+    if (options.on_progress && line % progress_every == 0) {
+      options.on_progress({line, static_cast<size_t>(std::min(p, end) - text.data()), text.size()});
+    }
     if (fields.f.empty()) continue;
     LineParser lp(name, line, fields);
     const std::string tag = fields.str(0);
 
     auto add_vertex = [&](VertexKind kind, const Eigen::VectorXd& est, bool toro) {
       const int id = lp.Id(1);
-      if (g.index_of.count(id)) {
+      const auto& range = RangeOf(g, kind);
+      if (range.count(id)) {
         lp.Fail("vertex id " + std::to_string(id) + " appears twice (first at line " +
-                std::to_string(g.vertices[g.index_of[id]].line) + ")");
+                std::to_string(g.vertices[range.at(id)].line) + "), both " +
+                (IsPoseKind(kind) ? "poses" : "landmarks"));
       }
       Vertex v;
       v.id = id;
@@ -382,7 +387,7 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
       v.estimate = est;
       v.toro = toro;
       v.line = line;
-      const int pose_dim = kind == VertexKind::kSE2 ? 2 : kind == VertexKind::kSE3 ? 3 : 0;
+      const int pose_dim = PoseDimension(kind);
       if (pose_dim && g.dimension && g.dimension != pose_dim) {
         lp.Fail("mixes 2D and 3D poses");
       }
@@ -393,9 +398,13 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
       }
       any_vertex_line = true;
     };
+    // Fills the edge's common fields, checks and repairs its information and
+    // appends it; returns it for the caller's extra fields.
     auto add_edge = [&](EdgeKind kind, int from, int to, Eigen::VectorXd z, Eigen::MatrixXd info,
-                        bool toro, int param = 0) {
-      if (from == to) lp.Fail(tag + ": an edge from vertex " + std::to_string(from) + " to itself");
+                        bool toro, int param = 0) -> Edge& {
+      if (!IsUnary(kind) && from == to && EndIsPose(kind, 0) == EndIsPose(kind, 1)) {
+        lp.Fail(tag + ": an edge from vertex " + std::to_string(from) + " to itself");
+      }
       if (kind == EdgeKind::kSE2BearingRange && !(z[1] >= 0.0)) {
         lp.Fail(tag + ": negative range " + std::to_string(z[1]));
       }
@@ -416,6 +425,13 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
         ++rep.repaired_information;
         rep.repaired_lines.push_back(line);
       }
+      const bool three_d = MeasurementSize(kind) == 7 || kind == EdgeKind::kSE3Point3 ||
+                           kind == EdgeKind::kSE3Point3Offset ||
+                           kind == EdgeKind::kSE3PositionPrior || kind == EdgeKind::kPoint3Prior ||
+                           kind == EdgeKind::kPoint3Point3;
+      const int pose_dim = three_d ? 3 : 2;
+      if (g.dimension && g.dimension != pose_dim) lp.Fail("mixes 2D and 3D poses");
+      g.dimension = pose_dim;
       Edge e;
       e.kind = kind;
       e.from = from;
@@ -427,21 +443,41 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
       e.line = line;
       g.edges.push_back(std::move(e));
       g.order.push_back({Graph::RecordType::kEdge, static_cast<int>(g.edges.size()) - 1});
-      const int pose_dim = (kind == EdgeKind::kSE3 || kind == EdgeKind::kSE3Point3) ? 3 : 2;
-      if (g.dimension && g.dimension != pose_dim) lp.Fail("mixes 2D and 3D poses");
-      g.dimension = pose_dim;
+      return g.edges.back();
+    };
+    auto se2 = [&](size_t first) {
+      return Eigen::Vector3d(lp.Number(first), lp.Number(first + 1),
+                             WrapAngleExact(lp.Number(first + 2)));
+    };
+    auto se3 = [&](size_t first) {
+      Eigen::VectorXd z(7);
+      z << lp.Number(first), lp.Number(first + 1), lp.Number(first + 2), lp.Quaternion(first + 3);
+      return z;
+    };
+    auto vec = [&](size_t first, int n) {
+      Eigen::VectorXd v(n);
+      for (int k = 0; k < n; ++k) v[k] = lp.Number(first + k);
+      return v;
+    };
+    auto keep_param_line = [&]() {
+      g.params.push_back(
+          std::string(fields.f.front().first, fields.f.back().first + fields.f.back().second));
+      g.order.push_back({Graph::RecordType::kParam, static_cast<int>(g.params.size()) - 1});
+    };
+    auto define_offset = [&](int id, Eigen::VectorXd value) {
+      if (g.offsets.count(id)) {
+        lp.Fail(tag + ": parameter id " + std::to_string(id) + " is defined twice");
+      }
+      g.offsets[id] = std::move(value);
+      keep_param_line();
     };
 
-    if (tag == "VERTEX_SE2" || tag == "VERTEX2") {
+    if (tag == "VERTEX_SE2" || tag == "VERTEX2" || tag == "VERTEX") {
       lp.ExpectCount(4, "id x y theta");
-      add_vertex(VertexKind::kSE2,
-                 Eigen::Vector3d(lp.Number(2), lp.Number(3), WrapAngleExact(lp.Number(4))),
-                 tag == "VERTEX2");
+      add_vertex(VertexKind::kSE2, se2(2), tag != "VERTEX_SE2");
     } else if (tag == "VERTEX_SE3:QUAT") {
       lp.ExpectCount(8, "id x y z qx qy qz qw");
-      Eigen::VectorXd v(7);
-      v << lp.Number(2), lp.Number(3), lp.Number(4), lp.Quaternion(5);
-      add_vertex(VertexKind::kSE3, v, false);
+      add_vertex(VertexKind::kSE3, se3(2), false);
     } else if (tag == "VERTEX3") {
       lp.ExpectCount(7, "id x y z roll pitch yaw");
       Eigen::VectorXd v(7);
@@ -450,48 +486,113 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
       add_vertex(VertexKind::kSE3, v, true);
     } else if (tag == "VERTEX_XY") {
       lp.ExpectCount(3, "id x y");
-      add_vertex(VertexKind::kPoint2, Eigen::Vector2d(lp.Number(2), lp.Number(3)), false);
+      add_vertex(VertexKind::kPoint2, vec(2, 2), false);
     } else if (tag == "VERTEX_TRACKXYZ") {
       lp.ExpectCount(4, "id x y z");
-      add_vertex(VertexKind::kPoint3, Eigen::Vector3d(lp.Number(2), lp.Number(3), lp.Number(4)),
-                 false);
+      add_vertex(VertexKind::kPoint3, vec(2, 3), false);
     } else if (tag == "EDGE_SE2") {
       lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I13 I22 I23 I33");
       // The measured angle wrapped exactly, as a vertex's: for |θ| ≫ 2π the
       // solver's wrap(θj − θi − θz) would lose every digit of it.
-      add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(3), lp.Number(4), WrapAngleExact(lp.Number(5))),
-               lp.UpperTriangle(6, 3), false);
-    } else if (tag == "EDGE2") {
+      add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2), se2(3), lp.UpperTriangle(6, 3), false);
+    } else if (tag == "EDGE2" || tag == "EDGE") {
       lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I22 I33 I13 I23");
-      add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(3), lp.Number(4), WrapAngleExact(lp.Number(5))),
-               ToroInfo2(lp, 6), true);
+      add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2), se2(3), ToroInfo2(lp, 6), true);
     } else if (tag == "EDGE_SE3:QUAT") {
       lp.ExpectCount(30, "i j dx dy dz qx qy qz qw I(21, upper triangle)");
-      Eigen::VectorXd z(7);
-      z << lp.Number(3), lp.Number(4), lp.Number(5), lp.Quaternion(6);
-      add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), z, lp.UpperTriangle(10, 6), false);
+      add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), se3(3), lp.UpperTriangle(10, 6), false);
     } else if (tag == "EDGE3") {
-      lp.ExpectCount(29, "i j dx dy dz roll pitch yaw I(21, upper triangle)");
+      // GTSAM's loader reads EDGE3 without I(21) as the identity information.
+      const bool without_info = fields.f.size() == 9;
+      if (!without_info) {
+        lp.ExpectCount(29, "i j dx dy dz roll pitch yaw [I(21, upper triangle)]");
+      }
       Eigen::VectorXd z(7);
       z << lp.Number(3), lp.Number(4), lp.Number(5),
           QuatFromEuler(lp.Number(6), lp.Number(7), lp.Number(8));
-      add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), z, lp.UpperTriangle(9, 6), true);
+      const Eigen::MatrixXd info =
+          without_info ? Eigen::MatrixXd::Identity(6, 6) : lp.UpperTriangle(9, 6);
+      Edge& e = add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), z, info, true);
+      if (without_info) {
+        e.identity_information = true;
+        if (rep.identity_information++ == 0) rep.first_identity_line = line;
+      }
     } else if (tag == "EDGE_SE2_XY") {
       lp.ExpectCount(7, "i j x y I11 I12 I22");
-      add_edge(EdgeKind::kSE2Point2, lp.Id(1), lp.Id(2),
-               Eigen::Vector2d(lp.Number(3), lp.Number(4)), lp.UpperTriangle(5, 2), false);
+      add_edge(EdgeKind::kSE2Point2, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2), false);
     } else if (tag == "EDGE_SE3_TRACKXYZ") {
       lp.ExpectCount(12, "i j offset_id x y z I(6, upper triangle)");
       const int param = lp.Id(3);
-      add_edge(EdgeKind::kSE3Point3, lp.Id(1), lp.Id(2),
-               Eigen::Vector3d(lp.Number(4), lp.Number(5), lp.Number(6)), lp.UpperTriangle(7, 3),
-               false, param);
+      Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 3, true);
+      const bool identity = IsIdentityOffset(offset);
+      Edge& e = add_edge(identity ? EdgeKind::kSE3Point3 : EdgeKind::kSE3Point3Offset, lp.Id(1),
+                         lp.Id(2), vec(4, 3), lp.UpperTriangle(7, 3), false, param);
+      if (!identity) e.offset = std::move(offset);
     } else if (tag == "EDGE_SE2_BEARING_RANGE") {
       lp.ExpectCount(7, "i j bearing range Ibb Ibr Irr");
-      add_edge(EdgeKind::kSE2BearingRange, lp.Id(1), lp.Id(2),
-               Eigen::Vector2d(lp.Number(3), lp.Number(4)), lp.UpperTriangle(5, 2), false);
+      add_edge(EdgeKind::kSE2BearingRange, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
+               false);
+    } else if (tag == "EDGE_SE2_OFFSET" || tag == "EDGE_SE3_OFFSET") {
+      const bool three = tag == "EDGE_SE3_OFFSET";
+      if (three) {
+        lp.ExpectCount(32, "i j p_from p_to dx dy dz qx qy qz qw I(21, upper triangle)");
+      } else {
+        lp.ExpectCount(13, "i j p_from p_to dx dy dtheta I(6, upper triangle)");
+      }
+      const int pa = lp.Id(3), pb = lp.Id(4);
+      Eigen::VectorXd oa = OffsetFor(g, lp, tag, pa, three ? 3 : 2, false);
+      Eigen::VectorXd ob = OffsetFor(g, lp, tag, pb, three ? 3 : 2, false);
+      Edge& e = add_edge(three ? EdgeKind::kSE3Offset : EdgeKind::kSE2Offset, lp.Id(1), lp.Id(2),
+                         three ? se3(5) : Eigen::VectorXd(se2(5)),
+                         lp.UpperTriangle(three ? 12 : 8, three ? 6 : 3), false, pa);
+      e.param_to = pb;
+      e.offset = std::move(oa);
+      e.offset_to = std::move(ob);
+    } else if (tag == "EDGE_PRIOR_SE2") {
+      lp.ExpectCount(10, "i x y theta I(6, upper triangle)");
+      const int i = lp.Id(1);
+      add_edge(EdgeKind::kSE2Prior, i, i, se2(2), lp.UpperTriangle(5, 3), false);
+    } else if (tag == "EDGE_SE3_PRIOR") {
+      lp.ExpectCount(30, "i p x y z qx qy qz qw I(21, upper triangle)");
+      const int i = lp.Id(1), param = lp.Id(2);
+      Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 3, false);
+      Edge& e = add_edge(EdgeKind::kSE3Prior, i, i, se3(3), lp.UpperTriangle(10, 6), false, param);
+      e.offset = std::move(offset);
+    } else if (tag == "EDGE_PRIOR_SE2_XY" || tag == "EDGE_PRIOR_XY") {
+      lp.ExpectCount(6, "i x y I11 I12 I22");
+      const int i = lp.Id(1);
+      add_edge(tag == "EDGE_PRIOR_XY" ? EdgeKind::kPoint2Prior : EdgeKind::kSE2PositionPrior, i, i,
+               vec(2, 2), lp.UpperTriangle(4, 2), false);
+    } else if (tag == "EDGE_SE3_XYZ_PRIOR") {
+      lp.ExpectCount(11, "i p x y z I(6, upper triangle)");
+      const int i = lp.Id(1), param = lp.Id(2);
+      // g2o's computeError ignores the offset; it must still exist.
+      OffsetFor(g, lp, tag, param, 3, false);
+      add_edge(EdgeKind::kSE3PositionPrior, i, i, vec(3, 3), lp.UpperTriangle(6, 3), false, param);
+    } else if (tag == "EDGE_POINTXYZ_PRIOR") {
+      lp.ExpectCount(10, "i x y z I(6, upper triangle)");
+      const int i = lp.Id(1);
+      add_edge(EdgeKind::kPoint3Prior, i, i, vec(2, 3), lp.UpperTriangle(5, 3), false);
+    } else if (tag == "EDGE_POINTXY") {
+      lp.ExpectCount(7, "i j dx dy I11 I12 I22");
+      add_edge(EdgeKind::kPoint2Point2, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
+               false);
+    } else if (tag == "EDGE_POINTXYZ") {
+      lp.ExpectCount(11, "i j dx dy dz I(6, upper triangle)");
+      add_edge(EdgeKind::kPoint3Point3, lp.Id(1), lp.Id(2), vec(3, 3), lp.UpperTriangle(6, 3),
+               false);
+    } else if (tag == "EDGE_SE2_POINTXY_OFFSET") {
+      lp.ExpectCount(8, "i j p x y I11 I12 I22");
+      const int param = lp.Id(3);
+      Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 2, false);
+      Edge& e = add_edge(EdgeKind::kSE2Point2Offset, lp.Id(1), lp.Id(2), vec(4, 2),
+                         lp.UpperTriangle(6, 2), false, param);
+      e.offset = std::move(offset);
+    } else if (tag == "EDGE_BEARING_SE2_XY") {
+      lp.ExpectCount(4, "i j bearing I");
+      Eigen::VectorXd z(1);
+      z << WrapAngleExact(lp.Number(3));
+      add_edge(EdgeKind::kSE2Bearing, lp.Id(1), lp.Id(2), z, lp.UpperTriangle(4, 1), false);
     } else if (tag == "FIX") {
       if (fields.f.size() < 2) lp.Fail("FIX: no vertex id");
       std::vector<int> ids;
@@ -499,16 +600,20 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
       g.fixed.push_back(ids);
       fix_lines.push_back(line);
       g.order.push_back({Graph::RecordType::kFix, static_cast<int>(g.fixed.size()) - 1});
+    } else if (tag == "EQUIV") {
+      lp.ExpectCount(2, "i j");
+      const int a = lp.Id(1), b = lp.Id(2);
+      if (a == b) lp.Fail("EQUIV: a vertex with itself");
+      // Resolved once every edge is read (the edge between them may follow).
+      equivs.push_back({a, b, line, g.order.size()});
+      g.order.push_back({Graph::RecordType::kEdge, -1});
+      ++rep.equiv;
     } else if (tag == "PARAMS_SE3OFFSET") {
       lp.ExpectCount(8, "id x y z qx qy qz qw");
-      const Eigen::Vector4d q = lp.Quaternion(5);
-      const double t = std::abs(lp.Number(2)) + std::abs(lp.Number(3)) + std::abs(lp.Number(4));
-      if (t > 1e-12 || std::abs(std::abs(q[3]) - 1.0) > 1e-12) {
-        lp.Fail("PARAMS_SE3OFFSET: only the identity offset is supported");
-      }
-      g.params.push_back(
-          std::string(fields.f.front().first, fields.f.back().first + fields.f.back().second));
-      g.order.push_back({Graph::RecordType::kParam, static_cast<int>(g.params.size()) - 1});
+      define_offset(lp.Id(1), se3(2));
+    } else if (tag == "PARAMS_SE2OFFSET") {
+      lp.ExpectCount(4, "id x y theta");
+      define_offset(lp.Id(1), se2(2));
     } else if (options.skip_unknown_tags) {
       ++rep.unknown_skipped;
       ++rep.unknown_tags[Escaped(tag)];
@@ -518,20 +623,65 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
   }
   rep.lines = line;
 
+  // EQUIV i j → a tight edge i → j with the measurement of the (first) edge
+  // between them, oriented i → j, else the identity.
+  for (const Equiv& q : equivs) {
+    if (g.dimension == 0) throw ParseError(name, q.line, "EQUIV in a file without poses");
+    const bool three = g.dimension == 3;
+    Edge e;
+    e.kind = three ? EdgeKind::kSE3 : EdgeKind::kSE2;
+    e.from = q.a;
+    e.to = q.b;
+    e.measurement = Eigen::VectorXd::Zero(three ? 7 : 3);
+    if (three) e.measurement[6] = 1.0;
+    for (const Edge& other : g.edges) {
+      if (other.equiv || other.kind != e.kind) continue;
+      if (other.from == q.a && other.to == q.b) {
+        e.measurement = other.measurement;
+        break;
+      }
+      if (other.from == q.b && other.to == q.a) {
+        if (three) {
+          Eigen::Quaterniond r(other.measurement[6], other.measurement[3], other.measurement[4],
+                               other.measurement[5]);
+          const Eigen::Vector3d t = -(r.conjugate() * other.measurement.head<3>());
+          e.measurement << t, r.conjugate().coeffs();
+        } else {
+          const double c = std::cos(other.measurement[2]), s = std::sin(other.measurement[2]);
+          const double x = other.measurement[0], y = other.measurement[1];
+          e.measurement << -(c * x + s * y), s * x - c * y, -other.measurement[2];
+        }
+        break;
+      }
+    }
+    e.information = kEquivInformation * Eigen::MatrixXd::Identity(three ? 6 : 3, three ? 6 : 3);
+    e.equiv = true;
+    e.toro = true;
+    e.line = q.line;
+    g.order[q.record].index = static_cast<int>(g.edges.size());
+    g.edges.push_back(std::move(e));
+  }
+
   // Edges must name existing vertices, unless the file has no vertex at all.
   if (!any_vertex_line) {
     g.estimates_from_file = false;
     for (const Edge& e : g.edges) {
-      const bool pose_pose = e.kind == EdgeKind::kSE2 || e.kind == EdgeKind::kSE3;
+      if (!InitialisableWithoutVertices(e.kind)) {
+        throw ParseError(name, e.line,
+                         "this edge needs VERTEX lines: a file without vertices is initialised "
+                         "from its pose-pose edges and landmark observations only");
+      }
       for (int k = 0; k < 2; ++k) {
         const int id = k == 0 ? e.from : e.to;
-        if (g.index_of.count(id)) continue;
+        const bool pose = EndIsPose(e.kind, k);
+        auto& range = pose ? g.index_of : g.landmark_index_of;
+        if (range.count(id)) continue;
         Vertex v;
         v.id = id;
         v.line = e.line;
         v.has_estimate = false;
         v.toro = e.toro;
-        if (k == 0 || pose_pose) {
+        if (pose) {
           v.kind = g.dimension == 3 ? VertexKind::kSE3 : VertexKind::kSE2;
         } else {
           v.kind = g.dimension == 3 ? VertexKind::kPoint3 : VertexKind::kPoint2;
@@ -540,33 +690,40 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
         if (v.kind == VertexKind::kSE3) v.estimate[6] = 1.0;
         const int idx = static_cast<int>(g.vertices.size());
         g.vertices.push_back(v);
-        g.index_of[id] = idx;
+        range[id] = idx;
       }
     }
     // Created vertices are written before everything else, sorted by id.
     std::vector<Graph::Record> order;
     std::vector<int> idx(g.vertices.size());
     for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
-    std::sort(idx.begin(), idx.end(),
-              [&](int a, int b) { return g.vertices[a].id < g.vertices[b].id; });
+    std::sort(idx.begin(), idx.end(), [&](int a, int b) {
+      const bool pa = IsPoseKind(g.vertices[a].kind), pb = IsPoseKind(g.vertices[b].kind);
+      if (pa != pb) return pa;
+      return g.vertices[a].id < g.vertices[b].id;
+    });
     for (int i : idx) order.push_back({Graph::RecordType::kVertex, i});
     order.insert(order.end(), g.order.begin(), g.order.end());
     g.order = std::move(order);
   }
   for (const Edge& e : g.edges) {
-    for (int id : {e.from, e.to}) {
-      if (!g.index_of.count(id)) {
-        throw ParseError(name, e.line, "edge to a missing vertex " + std::to_string(id));
+    for (int k = 0; k < 2; ++k) {
+      const int id = k == 0 ? e.from : e.to;
+      const bool pose = EndIsPose(e.kind, k);
+      if (!(pose ? g.index_of : g.landmark_index_of).count(id)) {
+        throw ParseError(name, e.line,
+                         "edge to a missing vertex " + std::to_string(id) +
+                             (pose ? " (a pose)" : " (a landmark)"));
       }
     }
-    const VertexKind a = g.vertices[g.index_of[e.from]].kind;
-    const VertexKind b = g.vertices[g.index_of[e.to]].kind;
+    const VertexKind a = g.vertices[g.EndIndex(e, 0)].kind;
+    const VertexKind b = g.vertices[g.EndIndex(e, 1)].kind;
     if (!ConnectsKinds(e.kind, a, b))
       throw ParseError(name, e.line, "edge connects vertices of the wrong types");
   }
   for (size_t f = 0; f < g.fixed.size(); ++f) {
     for (int id : g.fixed[f]) {
-      if (!g.index_of.count(id)) {
+      if (!g.index_of.count(id) && !g.landmark_index_of.count(id)) {
         throw ParseError(name, fix_lines[f], "FIX of a missing vertex " + std::to_string(id));
       }
     }
@@ -583,115 +740,6 @@ Graph ReadG2o(const std::string& path, const ReadOptions& options, ReadReport* r
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   BOXPLUS_CHECK(!in.bad(), Escaped(path), ": reading failed");
   return ParseG2o(text, path, options, report);
-}
-
-namespace {
-
-void Num(std::string* out, double v) {
-  char buf[40];
-  const int n = std::snprintf(buf, sizeof(buf), " %.17g", v);
-  out->append(buf, n);
-}
-
-void UpperTo(std::string* out, const Eigen::MatrixXd& m) {
-  for (int r = 0; r < m.rows(); ++r) {
-    for (int c = r; c < m.cols(); ++c) Num(out, m(r, c));
-  }
-}
-
-}  // namespace
-
-std::string FormatG2o(const Graph& g) {
-  std::string out;
-  out.reserve(g.edges.size() * 200 + g.vertices.size() * 80);
-  for (const auto& rec : g.order) {
-    switch (rec.type) {
-      case Graph::RecordType::kVertex: {
-        const Vertex& v = g.vertices[rec.index];
-        const Eigen::VectorXd& x = v.estimate;
-        switch (v.kind) {
-          case VertexKind::kSE2:
-            out += v.toro ? "VERTEX2 " : "VERTEX_SE2 ";
-            break;
-          case VertexKind::kSE3:
-            out += v.toro ? "VERTEX3 " : "VERTEX_SE3:QUAT ";
-            break;
-          case VertexKind::kPoint2:
-            out += "VERTEX_XY ";
-            break;
-          case VertexKind::kPoint3:
-            out += "VERTEX_TRACKXYZ ";
-            break;
-        }
-        out += std::to_string(v.id);
-        if (v.kind == VertexKind::kSE3 && v.toro) {
-          for (int i = 0; i < 3; ++i) Num(&out, x[i]);
-          const Eigen::Vector3d rpy = EulerFromQuat(x.tail<4>());
-          for (int i = 0; i < 3; ++i) Num(&out, rpy[i]);
-        } else {
-          for (int i = 0; i < x.size(); ++i) Num(&out, x[i]);
-        }
-        out += '\n';
-        break;
-      }
-      case Graph::RecordType::kEdge: {
-        const Edge& e = g.edges[rec.index];
-        const Eigen::VectorXd& z = e.measurement;
-        switch (e.kind) {
-          case EdgeKind::kSE2:
-            out += e.toro ? "EDGE2 " : "EDGE_SE2 ";
-            break;
-          case EdgeKind::kSE3:
-            out += e.toro ? "EDGE3 " : "EDGE_SE3:QUAT ";
-            break;
-          case EdgeKind::kSE2Point2:
-            out += "EDGE_SE2_XY ";
-            break;
-          case EdgeKind::kSE3Point3:
-            out += "EDGE_SE3_TRACKXYZ ";
-            break;
-          case EdgeKind::kSE2BearingRange:
-            out += "EDGE_SE2_BEARING_RANGE ";
-            break;
-        }
-        out += std::to_string(e.from) + " " + std::to_string(e.to);
-        if (e.kind == EdgeKind::kSE3Point3) out += " " + std::to_string(e.param);
-        if (e.kind == EdgeKind::kSE3 && e.toro) {
-          for (int i = 0; i < 3; ++i) Num(&out, z[i]);
-          const Eigen::Vector3d rpy = EulerFromQuat(z.tail<4>());
-          for (int i = 0; i < 3; ++i) Num(&out, rpy[i]);
-        } else {
-          for (int i = 0; i < z.size(); ++i) Num(&out, z[i]);
-        }
-        const Eigen::MatrixXd& I = e.information;
-        if (e.kind == EdgeKind::kSE2 && e.toro) {
-          for (double v : {I(0, 0), I(0, 1), I(1, 1), I(2, 2), I(0, 2), I(1, 2)}) Num(&out, v);
-        } else {
-          UpperTo(&out, I);
-        }
-        out += '\n';
-        break;
-      }
-      case Graph::RecordType::kFix: {
-        out += "FIX";
-        for (int id : g.fixed[rec.index]) out += " " + std::to_string(id);
-        out += '\n';
-        break;
-      }
-      case Graph::RecordType::kParam:
-        out += g.params[rec.index] + "\n";
-        break;
-    }
-  }
-  return out;
-}
-
-void WriteG2o(const std::string& path, const Graph& graph) {
-  const std::string text = FormatG2o(graph);
-  std::ofstream out(path, std::ios::binary);
-  BOXPLUS_CHECK(out.good(), path, ": cannot open the file for writing");
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  BOXPLUS_CHECK(out.good(), path, ": writing failed");
 }
 
 }  // namespace boxplus::io

@@ -80,8 +80,13 @@ Eigen::Matrix4d EdgeMatrix(const io::Edge& e) {
 void PlaceLandmarks(Graph* g, const std::vector<char>& pose_done) {
   std::vector<char> done(g->vertices.size(), 0);
   for (const io::Edge& e : g->edges) {
-    if (IsPosePose(e.kind)) continue;
-    const int a = g->VertexIndex(e.from), b = g->VertexIndex(e.to);
+    // The observations a landmark can be placed from without a sensor offset;
+    // landmarks seen only through other edges keep the file's estimate.
+    if (e.kind != EdgeKind::kSE2Point2 && e.kind != EdgeKind::kSE3Point3 &&
+        e.kind != EdgeKind::kSE2BearingRange) {
+      continue;
+    }
+    const int a = g->EndIndex(e, 0), b = g->EndIndex(e, 1);
     if (done[b] || !pose_done[a]) continue;
     const Eigen::Matrix4d T = ToMatrix(g->vertices[a].kind, g->vertices[a].estimate);
     Eigen::Vector4d local(0, 0, 0, 1);

@@ -6,16 +6,20 @@
 
 namespace boxplus::slam {
 
-std::unique_ptr<PoseGraph> LoadPoseGraph(const std::string& path, const LoadOptions& options,
-                                         LoadReport* report) {
+namespace {
+
+// Reads with `read` (the file or the text), then initialises and builds.
+template <typename Read>
+std::unique_ptr<PoseGraph> Load(const std::string& name, const LoadOptions& options,
+                                LoadReport* report, Read read) {
   using Clock = std::chrono::steady_clock;
   LoadReport local;
   LoadReport& rep = report ? *report : local;
   rep = LoadReport();
   const auto t0 = Clock::now();
-  io::Graph graph = io::ReadG2o(path, options.read, &rep.read);
-  rep.warnings = rep.read.Warnings(path);
-  BOXPLUS_CHECK(!graph.vertices.empty(), io::Escaped(path),
+  io::Graph graph = read(&rep.read);
+  rep.warnings = rep.read.Warnings(name);
+  BOXPLUS_CHECK(!graph.vertices.empty(), io::Escaped(name),
                 ": no vertex or edge lines (an empty or comment-only file)");
   rep.estimates_from_file = graph.estimates_from_file;
   const auto t1 = Clock::now();
@@ -31,6 +35,20 @@ std::unique_ptr<PoseGraph> LoadPoseGraph(const std::string& path, const LoadOpti
   rep.init_s = std::chrono::duration<double>(t2 - t1).count();
   rep.build_s = std::chrono::duration<double>(t3 - t2).count();
   return pg;
+}
+
+}  // namespace
+
+std::unique_ptr<PoseGraph> LoadPoseGraph(const std::string& path, const LoadOptions& options,
+                                         LoadReport* report) {
+  return Load(path, options, report,
+              [&](io::ReadReport* r) { return io::ReadG2o(path, options.read, r); });
+}
+
+std::unique_ptr<PoseGraph> LoadPoseGraphFromText(const std::string& text, const std::string& name,
+                                                 const LoadOptions& options, LoadReport* report) {
+  return Load(name, options, report,
+              [&](io::ReadReport* r) { return io::ParseG2o(text, name, options.read, r); });
 }
 
 }  // namespace boxplus::slam

@@ -2,6 +2,7 @@
 
 #include "boxplus/loss.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -10,11 +11,98 @@
 #include "boxplus/factors/pose/bearing_range.h"
 #include "boxplus/factors/pose/chordal_relative_pose.h"
 #include "boxplus/factors/pose/observed_point.h"
+#include "boxplus/factors/pose/offset_pose.h"
+#include "boxplus/factors/pose/point_in_frame.h"
 #include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/manifolds.h"
 
 namespace boxplus::slam {
+
+namespace {
+
+// An edge's offset parameter in the ambient layout (SE2 [x, y, θ], SE3 [t,
+// qxyzw]); the identity when the edge has none.
+Eigen::VectorXd OffsetOrIdentity(const Eigen::VectorXd& offset, int ambient) {
+  if (offset.size() == ambient) return offset;
+  Eigen::VectorXd id = Eigen::VectorXd::Zero(ambient);
+  if (ambient == 7) id[6] = 1.0;
+  return id;
+}
+
+// The cost and the error of the edge kinds of offset_pose.h / point_in_frame.h.
+std::shared_ptr<ceres::CostFunction> MakeG2oOffsetEdgeCost(const io::Edge& e,
+                                                           const NoiseModel& noise) {
+  const Eigen::VectorXd& z = e.measurement;
+  switch (e.kind) {
+    case io::EdgeKind::kSE2Offset:
+      return MakeOffsetPose2D(z, OffsetOrIdentity(e.offset, 3), OffsetOrIdentity(e.offset_to, 3),
+                              noise);
+    case io::EdgeKind::kSE3Offset:
+      return MakeOffsetPose3D(z, OffsetOrIdentity(e.offset, 7), OffsetOrIdentity(e.offset_to, 7),
+                              noise);
+    case io::EdgeKind::kSE2Prior:
+      return MakeOffsetPosePrior2D(z, OffsetOrIdentity(Eigen::VectorXd(), 3), noise);
+    case io::EdgeKind::kSE3Prior:
+      return MakeOffsetPosePrior3D(z, OffsetOrIdentity(e.offset, 7), noise);
+    case io::EdgeKind::kSE2PositionPrior:
+      return MakePositionPrior(z, 3, noise);
+    case io::EdgeKind::kSE3PositionPrior:
+      return MakePositionPrior(z, 7, noise);
+    case io::EdgeKind::kPoint2Prior:
+    case io::EdgeKind::kPoint3Prior:
+      return MakePositionPrior(z, static_cast<int>(z.size()), noise);
+    case io::EdgeKind::kPoint2Point2:
+    case io::EdgeKind::kPoint3Point3:
+      return MakePointDifference(z, noise);
+    case io::EdgeKind::kSE2Point2Offset:
+      return MakePointInPose2D(z, OffsetOrIdentity(e.offset, 3), noise);
+    case io::EdgeKind::kSE3Point3Offset:
+      return MakePointInPose3D(z, OffsetOrIdentity(e.offset, 7), noise);
+    case io::EdgeKind::kSE2Bearing:
+      return MakeBearing2D(z[0], noise);
+    default:
+      throw Error("not an offset, prior or point edge");
+  }
+}
+
+void G2oOffsetEdgeError(const io::Edge& e, const double* a, const double* b, double* err) {
+  const double* z = e.measurement.data();
+  const Eigen::VectorXd o3 = OffsetOrIdentity(e.offset, 3), o7 = OffsetOrIdentity(e.offset, 7);
+  const Eigen::VectorXd t3 = OffsetOrIdentity(e.offset_to, 3),
+                        t7 = OffsetOrIdentity(e.offset_to, 7);
+  switch (e.kind) {
+    case io::EdgeKind::kSE2Offset:
+      return OffsetPoseError<2>(a, b, o3.data(), t3.data(), z, err);
+    case io::EdgeKind::kSE3Offset:
+      return OffsetPoseError<3>(a, b, o7.data(), t7.data(), z, err);
+    case io::EdgeKind::kSE2Prior:
+      return OffsetPoseError<2>(static_cast<const double*>(nullptr), a, nullptr,
+                                OffsetOrIdentity(Eigen::VectorXd(), 3).data(), z, err);
+    case io::EdgeKind::kSE3Prior:
+      return OffsetPoseError<3>(static_cast<const double*>(nullptr), a, nullptr, o7.data(), z, err);
+    case io::EdgeKind::kSE2PositionPrior:
+    case io::EdgeKind::kPoint2Prior:
+      return PositionPriorError<2>(a, z, err);
+    case io::EdgeKind::kSE3PositionPrior:
+    case io::EdgeKind::kPoint3Prior:
+      return PositionPriorError<3>(a, z, err);
+    case io::EdgeKind::kPoint2Point2:
+      return PointDifferenceError<2>(a, b, z, err);
+    case io::EdgeKind::kPoint3Point3:
+      return PointDifferenceError<3>(a, b, z, err);
+    case io::EdgeKind::kSE2Point2Offset:
+      return PointInPoseError<2>(a, b, o3.data(), z, err);
+    case io::EdgeKind::kSE3Point3Offset:
+      return PointInPoseError<3>(a, b, o7.data(), z, err);
+    case io::EdgeKind::kSE2Bearing:
+      return Bearing2DError(a, b, z, err);
+    default:
+      throw Error("not an offset, prior or point edge");
+  }
+}
+
+}  // namespace
 
 std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e, const NoiseModel& noise,
                                                   PoseErrorConvention convention) {
@@ -30,8 +118,9 @@ std::shared_ptr<ceres::CostFunction> MakeEdgeCost(const io::Edge& e, const Noise
       return MakeObservedPoint3D(z, noise);
     case io::EdgeKind::kSE2BearingRange:
       return MakeBearingRange2D(z, noise);
+    default:
+      return MakeG2oOffsetEdgeCost(e, noise);
   }
-  throw Error("unknown edge kind");
 }
 
 double EdgeChi2(const io::Edge& e, const double* a, const double* b,
@@ -68,6 +157,9 @@ double EdgeChi2(const io::Edge& e, const double* a, const double* b,
       break;
     case io::EdgeKind::kSE2BearingRange:
       if (!BearingRange2DError(a, b, z, err.data())) return INFINITY;
+      break;
+    default:
+      G2oOffsetEdgeError(e, a, b, err.data());
       break;
   }
   return err.dot(e.information * err);
@@ -123,9 +215,14 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
   for (const io::Edge& e : graph_.edges) AddEdgeToProblem(e);
   const std::vector<int> fixed = graph_.FixedIds();
   for (int id : fixed) Fix(id);
+  // A full pose prior (EDGE_PRIOR_SE2, EDGE_SE3_PRIOR) fixes the gauge by
+  // itself, as in g2o (SparseOptimizer::gaugeFreedom): no vertex is held then.
+  const bool pose_prior = std::any_of(graph_.edges.begin(), graph_.edges.end(), [](const auto& e) {
+    return e.kind == io::EdgeKind::kSE2Prior || e.kind == io::EdgeKind::kSE3Prior;
+  });
   if (!fixed.empty()) {
     gauge_vertex_ = fixed.front();
-  } else {
+  } else if (!pose_prior) {
     for (const auto& rec : graph_.order) {
       if (rec.type != io::Graph::RecordType::kVertex) continue;
       const io::Vertex& v = graph_.vertices[rec.index];
@@ -139,8 +236,8 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
 }
 
 void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
-  const int a = var_of_vertex_[graph_.VertexIndex(e.from)];
-  const int b = var_of_vertex_[graph_.VertexIndex(e.to)];
+  const int a = var_of_vertex_[graph_.EndIndex(e, 0)];
+  const int b = var_of_vertex_[graph_.EndIndex(e, 1)];
   const std::string name = EdgeName(e);
   try {
     // One model per edge: the factor whitens with it and the problem keeps it
@@ -151,7 +248,8 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
                          (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
     // The edges added in file order are named by the namer (no string each).
     const bool derived_name = problem_.num_measurements() == named_edges_;
-    problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention), {a, b},
+    problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention),
+                            io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b},
                             chordal ? ChordalNoise(noise) : noise, loss_,
                             derived_name ? std::string() : name);
     if (derived_name) ++named_edges_;
@@ -168,6 +266,18 @@ int PoseGraph::variable(int vertex_id) const {
   return var_of_vertex_[graph_.VertexIndex(vertex_id)];
 }
 
+int PoseGraph::variable_at(int vertex_index) const {
+  BOXPLUS_CHECK_INDEX(vertex_index >= 0 && vertex_index < static_cast<int>(var_of_vertex_.size()),
+                      "no vertex at index ", vertex_index);
+  return var_of_vertex_[vertex_index];
+}
+
+int PoseGraph::landmark_variable(int landmark_id) const {
+  auto it = graph_.landmark_index_of.find(landmark_id);
+  BOXPLUS_CHECK_INDEX(it != graph_.landmark_index_of.end(), "no landmark with id ", landmark_id);
+  return var_of_vertex_[it->second];
+}
+
 std::vector<int> PoseGraph::vertex_ids() const {
   std::vector<int> ids;
   ids.reserve(graph_.vertices.size());
@@ -176,6 +286,15 @@ std::vector<int> PoseGraph::vertex_ids() const {
 }
 
 void PoseGraph::Fix(int vertex_id, bool fixed) { problem_.SetFixed(variable(vertex_id), fixed); }
+
+void PoseGraph::SetGauge(const std::vector<int>& vertex_ids) {
+  BOXPLUS_CHECK(!vertex_ids.empty(), "SetGauge: no vertex id");
+  for (int id : vertex_ids) variable(id);  // every id exists before anything changes
+  for (int id : graph_.FixedIds()) Fix(id, false);
+  if (gauge_vertex_ >= 0) Fix(gauge_vertex_, false);
+  for (int id : vertex_ids) Fix(id);
+  gauge_vertex_ = vertex_ids.front();
+}
 
 // Both validate completely (io::Graph::CheckVertex/CheckEdge, the cost's
 // factory) before the graph or the problem changes: a failed call leaves both
@@ -214,8 +333,8 @@ double Objective(const io::Graph& g, const PoseGraphOptions& options) {
   const std::shared_ptr<ceres::LossFunction> loss = MakeLoss(options.robust, options.robust_width);
   double sum = 0.0;
   for (const io::Edge& e : g.edges) {
-    const double s = EdgeChi2(e, g.vertices[g.VertexIndex(e.from)].estimate.data(),
-                              g.vertices[g.VertexIndex(e.to)].estimate.data(), options.convention);
+    const double s = EdgeChi2(e, g.vertices[g.EndIndex(e, 0)].estimate.data(),
+                              g.vertices[g.EndIndex(e, 1)].estimate.data(), options.convention);
     if (loss) {
       double rho[3];
       loss->Evaluate(s, rho);
@@ -290,8 +409,8 @@ SolveSummary PoseGraph::Solve(const SolverOptions& options) {
 double PoseGraph::Chi2(PoseErrorConvention convention) const {
   double sum = 0.0;
   for (const io::Edge& e : graph_.edges) {
-    sum += EdgeChi2(e, problem_.value(var_of_vertex_[graph_.VertexIndex(e.from)]),
-                    problem_.value(var_of_vertex_[graph_.VertexIndex(e.to)]), convention);
+    sum += EdgeChi2(e, problem_.value(var_of_vertex_[graph_.EndIndex(e, 0)]),
+                    problem_.value(var_of_vertex_[graph_.EndIndex(e, 1)]), convention);
   }
   return sum;
 }

@@ -23,5 +23,10 @@ struct LoadOptions {
 // empty or comment-only file, a graph that cannot be initialised).
 std::unique_ptr<PoseGraph> LoadPoseGraph(const std::string& path, const LoadOptions& options = {},
                                          LoadReport* report = nullptr);
+// The same from the text of a file (standard input: boxplus-g2o -); `name`
+// names it in messages.
+std::unique_ptr<PoseGraph> LoadPoseGraphFromText(const std::string& text, const std::string& name,
+                                                 const LoadOptions& options = {},
+                                                 LoadReport* report = nullptr);
 
 }  // namespace boxplus::slam

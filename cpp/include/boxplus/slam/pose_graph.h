@@ -11,10 +11,19 @@
 //                                 ChordalNoise (factors/pose/chordal_relative_pose.h)
 //   EDGE_SE2_XY, EDGE_SE3_TRACKXYZ → MakeObservedPoint2D/3D (factors/pose/observed_point.h)
 //   EDGE_SE2_BEARING_RANGE      → MakeBearingRange2D (factors/pose/bearing_range.h)
+//   EDGE_SE2/SE3_OFFSET, EDGE_PRIOR_SE2, EDGE_SE3_PRIOR
+//                               → MakeOffsetPose*/MakeOffsetPosePrior* (g2o's
+//                                 error in every convention; offset_pose.h)
+//   EDGE_SE3_TRACKXYZ (non-identity offset), EDGE_SE2_POINTXY_OFFSET,
+//   EDGE_POINTXY(Z), EDGE_PRIOR_XY, EDGE_POINTXYZ_PRIOR, EDGE_PRIOR_SE2_XY,
+//   EDGE_SE3_XYZ_PRIOR, EDGE_BEARING_SE2_XY
+//                               → point_in_frame.h
+//   EQUIV (TORO)                → a tight EDGE_SE2/SE3 (io/g2o.h)
 // optionally wrapped in a robust loss ρ with a width (Huber, Cauchy, ...).
 // The gauge: the vertices of the FIX lines are held constant, else the first
-// vertex of the file. The objective is Σ ρ(eᵀΩe) (chi2 without a robust loss;
-// Ceres reports half of it as its cost).
+// pose vertex of the file, unless a full pose prior (EDGE_PRIOR_SE2,
+// EDGE_SE3_PRIOR) fixes it already (as g2o decides; then gauge_vertex() = −1). The objective is Σ
+// ρ(eᵀΩe) (chi2 without a robust loss; Ceres reports half of it as its cost).
 //
 // The problem is built in C++ in one pass (no per-edge call from Python), and
 // Python/C++ code may extend it (problem(), AddEdge, AddVertex, Fix) before
@@ -81,12 +90,20 @@ class PoseGraph {
   const PoseGraphOptions& options() const { return options_; }
 
   // Variable id of a vertex id; throws IndexError for an unknown id.
-  int variable(int vertex_id) const;
+  int variable(int vertex_id) const;  // the pose if a pose and a landmark share the id
+  // Variable id of graph().vertices[index] (a landmark whose id a pose shares).
+  int variable_at(int vertex_index) const;
+  int landmark_variable(int landmark_id) const;
   // Vertex ids, in the order of the variables (= file order of vertices).
   std::vector<int> vertex_ids() const;
-  // The vertex held fixed for the gauge (first FIX id or first vertex).
+  // The vertex held fixed for the gauge (first FIX id or first vertex; −1
+  // when pose priors fix the gauge).
   int gauge_vertex() const { return gauge_vertex_; }
   void Fix(int vertex_id, bool fixed = true);
+  // Holds exactly these vertices fixed (g2o's -gaugeId / -gaugeList),
+  // releasing the FIX lines' and the default gauge; the first is
+  // gauge_vertex(). Throws IndexError (nothing changed) for an unknown id.
+  void SetGauge(const std::vector<int>& vertex_ids);
 
   // Adds a vertex / edge to both the graph (saved with it) and the problem;
   // returns the variable / measurement id. SE3 quaternions are normalised
