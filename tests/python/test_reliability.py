@@ -183,6 +183,22 @@ def test_huge_rn_dimension_raises_a_clear_error():
     assert "C++ type '?'" not in str(info.value)
 
 
+def test_rn_size_check_is_exactly_what_a_measurement_can_use():
+    """A measurement's n × n block of the normal equations must fit Ceres' int
+    indexing (2³¹ − 1 entries): Rn(46340) can be measured, Rn(46341) never could
+    and is refused at construction — Rn(2³¹ − 1) used to pass and allocate 16 GB."""
+    assert 46340**2 <= 2**31 - 1 < 46341**2
+    for n in (46341, 2**31 - 1, 10**10):
+        with pytest.raises(ValueError, match=f"Rn: dimension {n} is too large: at most 46340"):
+            bp.Rn(n)
+    with pytest.raises(ValueError, match="Rn: dimension 46341 is too large"):
+        bp.Rn(np.zeros(46341))
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn(46340), name="largest")
+    p.add_measurement([0.0], lambda v: v.vec[:1], [x], name="one coordinate")
+    assert p._core.measurement_variables(0) == [x]
+
+
 def test_bad_function_outputs_name_the_measurement():
     p = bp.OptimizationProblem()
     x = p.add_random_var(bp.Rn([1.0, 2.0]), name="x")
