@@ -92,7 +92,7 @@ sanitize: venv
 	$(VPY) -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
 	    --upgrade --target $(ASAN_SITE) -C build-dir=build/asan-wheel \
 	    -C cmake.build-type=RelWithDebInfo -C cmake.define.BOXPLUS_SANITIZE=ON \
-	    "-C cmake.define.CMAKE_CXX_FLAGS_RELWITHDEBINFO=$(ASAN_FLAGS)" .
+	    -C "cmake.define.CMAKE_CXX_FLAGS_RELWITHDEBINFO=$(ASAN_FLAGS)" .
 	$(ASAN_ENV) LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	    PYTHONPATH=$(CURDIR)/$(ASAN_SITE) PATH=$(CURDIR)/$(ASAN_SITE)/bin:$$PATH \
 	    $(VPY) -m pytest -q -p no:cacheprovider
