@@ -77,9 +77,8 @@ bench: install
 # under them (the Python interpreter is not instrumented, so the sanitizer
 # runtimes are preloaded; CPython's own allocations are not leak-checked).
 # -O1 -g1: the optimisation the ASan documentation suggests for usable speed,
-# line tables for file:line in the reports; the autodiff templates compile
-# faster than with -O2 -g. The pip build uses the same flags, so ccache shares
-# the library's objects between the two trees.
+# and line tables only, all the reports' file:line need. The pip build of the
+# extension uses the same flags.
 ASAN_SITE  := build/asan-site
 ASAN_FLAGS := -O1 -g1 -DNDEBUG
 ASAN_ENV   := ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:strict_string_checks=1 \
