@@ -23,6 +23,26 @@ namespace py = pybind11;
 namespace boxplus::python {
 namespace {
 
+// The largest Rⁿ a measurement can use. Ceres indexes a measurement's block of
+// the normal equations (tangent × tangent entries) with int, and
+// Problem::AddMeasurement refuses more than 2³¹ − 1 entries, so a larger Rⁿ
+// could never be measured: refused at construction, before n doubles are
+// allocated. 46340² = 2147395600 ≤ 2³¹ − 1 < 46341².
+constexpr long long LargestSquareRootOfIntMax() {
+  long long n = 0;
+  while ((n + 1) * (n + 1) <= std::numeric_limits<int>::max()) ++n;
+  return n;
+}
+constexpr long long kRnMaxDimension = LargestSquareRootOfIntMax();
+static_assert(kRnMaxDimension == 46340);
+
+[[noreturn]] void RnTooLarge(const std::string& n) {
+  throw py::value_error("Rn: dimension " + n + " is too large: at most " +
+                        std::to_string(kRnMaxDimension) +
+                        ", whose n x n block of the normal equations is the most Ceres can "
+                        "index with int (2**31 - 1 entries)");
+}
+
 Eigen::VectorXd AsVector(const py::handle& obj, Eigen::Index n, const char* what) {
   py::array_t<double, py::array::c_style | py::array::forcecast> a;
   try {
@@ -312,10 +332,7 @@ A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
              int overflow = 0;
              const long long n = PyLong_AsLongLongAndOverflow(arg.ptr(), &overflow);
              if (n < 1 && overflow == 0) throw py::value_error("Rn(n): n must be at least 1");
-             if (overflow != 0 || n > std::numeric_limits<int>::max()) {
-               throw py::value_error("Rn(n): n = " + std::string(py::str(arg)) +
-                                     " is too large (at most 2**31 - 1)");
-             }
+             if (overflow != 0 || n > kRnMaxDimension) RnTooLarge(std::string(py::str(arg)));
              return Rn(static_cast<int>(n));
            }
            py::array_t<double, py::array::c_style | py::array::forcecast> a =
@@ -323,6 +340,7 @@ A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
            if (!a || a.ndim() > 1 || a.size() < 1) {
              throw py::value_error("Rn(v): v must be a non-empty vector or an int n");
            }
+           if (a.size() > kRnMaxDimension) RnTooLarge(std::to_string(a.size()));
            return Rn(Eigen::Map<const Eigen::VectorXd>(a.data(), a.size()));
          }),
          py::arg("v"))

@@ -183,6 +183,22 @@ def test_huge_rn_dimension_raises_a_clear_error():
     assert "C++ type '?'" not in str(info.value)
 
 
+def test_rn_size_check_is_exactly_what_a_measurement_can_use():
+    """A measurement's n × n block of the normal equations must fit Ceres' int
+    indexing (2³¹ − 1 entries): Rn(46340) can be measured, Rn(46341) never could
+    and is refused at construction — Rn(2³¹ − 1) used to pass and allocate 16 GB."""
+    assert 46340**2 <= 2**31 - 1 < 46341**2
+    for n in (46341, 2**31 - 1, 10**10):
+        with pytest.raises(ValueError, match=f"Rn: dimension {n} is too large: at most 46340"):
+            bp.Rn(n)
+    with pytest.raises(ValueError, match="Rn: dimension 46341 is too large"):
+        bp.Rn(np.zeros(46341))
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn(46340), name="largest")
+    p.add_measurement([0.0], lambda v: v.vec[:1], [x], name="one coordinate")
+    assert p._core.measurement_variables(0) == [x]
+
+
 def test_bad_function_outputs_name_the_measurement():
     p = bp.OptimizationProblem()
     x = p.add_random_var(bp.Rn([1.0, 2.0]), name="x")
@@ -243,3 +259,141 @@ def test_untouched_variable_is_reported_undetermined():
             call()
     with pytest.raises(ValueError, match="listed twice"):
         p.joint_covariance([x, x])
+
+
+# ---- calibration: view sets whose board planes are all parallel are refused ------------
+def _parallel_view_sets(rng, n=5):
+    """(geometry, world_from_cam per view) of sets whose board planes are parallel in
+    the camera frame — Zhang's degenerate configuration."""
+    from boxplus.calib.synthetic import board_points, random_views
+
+    c = board_points().mean(axis=0)
+    base = random_views(1, rng, c)[0]
+    yield "translation only", [bp.SE3(base.rot, base.pos + d) for d in rng.normal(0, 0.05, (n, 3))]
+    # the camera orbits the board's normal: the board turns in its own plane
+    turns = [bp.SO3.exp(np.array([0.0, 0.0, a])).R for a in rng.uniform(-2, 2, n)]
+    yield "turns in the board plane", [bp.SE3(bp.SO3(T @ base.rot.R), T @ (base.pos - c) + c)
+                                       for T in turns]
+
+
+def _outcome(calibrate, args, views_message):
+    """'refused' (ValueError naming every view as parallel), 'warned' (the focal
+    length named as barely determined), 'not converged' or 'converged' — the last
+    is the silent wrong answer the checks exist to stop."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            cal = calibrate(*args)
+        except ValueError as e:
+            assert "planes are parallel" in str(e) and views_message in str(e), str(e)
+            return "refused"
+    if any("barely determined by views 0, 1, 2, 3, 4" in str(w.message) for w in caught):
+        return "warned"
+    return "converged" if cal.result.termination == "convergence" else "not converged"
+
+
+def _fronto_parallel_views(rng, n=5):
+    """All boards facing the camera squarely: turns in their plane and small shifts."""
+    from boxplus.calib.synthetic import board_points, look_at
+
+    c = board_points().mean(axis=0)
+    out = []
+    for a, dx, dy in zip(rng.uniform(-2, 2, n), rng.uniform(-0.05, 0.05, n), rng.uniform(-0.05, 0.05, n)):
+        eye = c + [dx, dy, -0.6]
+        R = look_at(eye, c + [dx, dy, 0], up=np.array([0.0, 1.0, 0.0])).rot.R
+        out.append(bp.SE3(bp.SO3(R @ bp.SO3.exp(np.array([0.0, 0.0, a])).R), eye))
+    return out
+
+
+def test_calibrate_mono_refuses_parallel_boards_naming_the_views():
+    """Translation-only views, turns of the board in its plane, fronto-parallel sets,
+    at two noise levels: never a silent converged answer. Mostly refused (the
+    solved planes agree within 5°); where the degenerate solve wanders off, its
+    poses cannot show the parallel planes, and the summary says it did not
+    converge or a warning names the barely determined focal length."""
+    from collections import Counter
+
+    from boxplus.calib import calibrate_mono
+    from boxplus.calib.synthetic import TRUE_K, board_points, observe
+
+    p = board_points()
+    counts: Counter = Counter()
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        sets = [*_parallel_view_sets(rng), ("fronto-parallel", _fronto_parallel_views(rng))]
+        for geometry, views in sets:
+            for sigma in (0.3, 1.0):
+                Z = [observe(TRUE_K, v, p, sigma, rng, image_size=None)[0] for v in views]
+                outcome = _outcome(calibrate_mono, (Z, p, (640, 480)),
+                                   "camera: the board has the same orientation in every view "
+                                   "(0, 1, 2, 3, 4)")
+                counts[geometry, outcome] += 1
+                assert outcome != "converged", (geometry, seed, sigma)
+    for geometry in ("translation only", "turns in the board plane", "fronto-parallel"):
+        assert counts[geometry, "refused"] + counts[geometry, "warned"] == 8, dict(counts)
+    for geometry in ("translation only", "turns in the board plane"):
+        assert counts[geometry, "refused"] >= 7, dict(counts)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_calibrate_mono_accepts_tilted_views(seed):
+    from boxplus.calib import calibrate_mono
+    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+
+    rng = np.random.default_rng(100 + seed)
+    p = board_points()
+    Z = [observe(TRUE_K, v, p, 0.5, rng, image_size=None)[0] for v in random_views(5, rng, p.mean(axis=0))]
+    cal = calibrate_mono(Z, p, (640, 480))
+    assert cal.result.termination == "convergence"
+    k, std = cal.problem[cal.ids["camera"]].vec, cal.report().std("camera")
+    assert np.all(np.abs(k[:4] - TRUE_K[:4]) < 4 * std[:4]), (k[:4], std[:4])
+
+
+def test_calibrate_stereo_refuses_parallel_boards():
+    from collections import Counter
+
+    from boxplus.calib import calibrate_stereo
+    from boxplus.calib.synthetic import TRUE_K, board_points, observe
+
+    p = board_points()
+    left_from_right = bp.SE3(bp.SO3.exp(np.array([0.0, 0.05, 0.0])), np.array([0.1, 0.0, 0.0]))
+    counts: Counter = Counter()
+    for seed in range(4):
+        rng = np.random.default_rng(seed)
+        for geometry, views in _parallel_view_sets(rng):
+            L = [observe(TRUE_K, v, p, 0.5, rng, image_size=None)[0] for v in views]
+            R = [observe(TRUE_K, v * left_from_right, p, 0.5, rng, image_size=None)[0] for v in views]
+            outcome = _outcome(calibrate_stereo, (L, R, p, (640, 480)),
+                               ": the board has the same orientation in every view (0, 1, 2, 3, 4)")
+            counts[geometry, outcome] += 1
+            assert outcome != "converged", (geometry, seed)
+    assert counts["translation only", "refused"] + counts["turns in the board plane", "refused"] >= 6
+
+
+def test_board_normals_of_parallel_planes_agree_for_any_intrinsics():
+    """r1 × r2 of K⁻¹H is Kᵀ times the image of the plane's line at infinity: exact
+    homographies of parallel boards give one normal whatever K is assumed (also the
+    wrong K a degenerate set yields); tilted boards give their angle under the true K."""
+    from boxplus.calib.zhang import board_normals, check_board_planes
+
+    rng = np.random.default_rng(7)
+    K = np.array([[520.0, 0, 322], [0, 515, 245], [0, 0, 1]])
+    R = bp.SO3.exp(np.array([0.3, -0.2, 0.1])).R
+    Hs = []
+    for a in rng.uniform(-2, 2, 4):  # turns in the board plane and shifts
+        Ra = R @ bp.SO3.exp(np.array([0.0, 0.0, a])).R
+        t = np.array([0.0, 0.0, 0.6]) + rng.normal(0, 0.05, 3)
+        Hs.append(K @ np.column_stack([Ra[:, 0], Ra[:, 1], t]))
+    for K_assumed in (K, np.array([[3000.0, 0, 300], [0, 2900, 200], [0, 0, 1]])):
+        N = board_normals(K_assumed, Hs)
+        assert np.allclose(np.abs(N @ N[0]), 1.0, atol=1e-12)
+        with pytest.raises(ValueError, match=r"cam: .* \(0, 1, 2, 3\)"):
+            check_board_planes(N, "cam")
+    tilt = bp.SO3.exp(np.array([0.2, 0.0, 0.0])).R  # 0.2 rad about the board's x axis
+    R2 = R @ tilt
+    Hs.append(K @ np.column_stack([R2[:, 0], R2[:, 1], [0.0, 0.0, 0.6]]))
+    N = board_normals(K, Hs)
+    assert np.isclose(np.arccos(abs(N[0] @ N[-1])), 0.2, atol=1e-9)
+    check_board_planes(N, "cam")  # two orientations: accepted

@@ -177,6 +177,38 @@ def test_errors_without_a_line_name_the_file(tmp_path):
             slam.load_g2o(apart, init=init)
 
 
+# Chordal initialisation factorises positive definite systems (the graph is checked
+# connected first); only weights from the information matrices that underflow or
+# overflow make them singular — named by file, edge and line.
+SINGULAR_CHORDAL = {
+    # κ = Ω_θθ = 1e-320 (subnormal): the rotation system's pivots vanish
+    "rotation": ("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
+                 "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1e-320\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1e-320\n",
+                 r"line 4\) to .*line 4\)"),
+    # τ = 2 / tr(Ω_xy⁻¹) = 0: Ω_xy = 1e-320 I inverts to inf
+    "translation": ("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\n"
+                    "EDGE_SE2 0 1 1 0 0 1e-320 0 0 1e-320 0 1\n", r"0 \(edge 0 -> 1, line 3\) to 0"),
+    # τ = 2 / tr(Ω_xy⁻¹) with Ω_xy = 1e308 I: the Laplacian's diagonal overflows
+    "translation, overflow": ("VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 1 0 0\n"
+                              "EDGE_SE2 0 1 1 0 0 1e308 0 0 1e308 0 1\n"
+                              "EDGE_SE2 1 2 1 0 0 1e308 0 0 1e308 0 1\n", r"line 4\)"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(SINGULAR_CHORDAL))
+def test_chordal_singular_system_names_the_file_and_the_edges(tmp_path, case):
+    text, lines = SINGULAR_CHORDAL[case]
+    p = _write(tmp_path, text, "singular.g2o")
+    system = case.split(",")[0]
+    with pytest.raises(bp.BoxplusError, match=str(tmp_path / "singular.g2o") +
+                       f": chordal initialisation: singular {system} system: the edges' weights "
+                       r"from their information matrices range from .*" + lines):
+        slam.load_g2o(p, init="chordal")
+    # the file itself is valid: the spanning tree composes its exact measurements
+    g = slam.load_g2o(p, init="spanning-tree")
+    np.testing.assert_allclose(g.poses()[:, 0], np.arange(len(g.poses())), atol=1e-12)
+
+
 def test_se2_angle_1e16_loads_wrapped(tmp_path):
     g = slam.load_g2o(_write(tmp_path, "VERTEX_SE2 0 0 0 1e16\nVERTEX_SE2 1 0 0 -1e16\n"
                              "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 1\n"))

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <queue>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -29,6 +31,36 @@ std::string Where(const Graph& g) { return g.name.empty() ? "" : io::Escaped(g.n
 std::string Where(const Graph& g, int line) {
   if (g.name.empty() || line <= 0) return Where(g);
   return io::Escaped(g.name) + ":" + std::to_string(line) + ": ";
+}
+
+// Why a chordal system did not factorise: the graph is connected (checked
+// first), so its matrix is positive definite in exact arithmetic, and only
+// weights (κ or τ per edge, from the information matrices) that underflow,
+// overflow or span more than a double resolves make it singular. Names the
+// lightest and the heaviest pose-pose edge by line.
+std::string SingularSystem(const Graph& g, const char* system, const std::vector<double>& w) {
+  int lo = -1, hi = -1;
+  for (size_t k = 0; k < g.edges.size(); ++k) {
+    if (!IsPosePose(g.edges[k].kind)) continue;
+    if (lo < 0 || w[k] < w[lo]) lo = static_cast<int>(k);
+    if (hi < 0 || w[k] > w[hi]) hi = static_cast<int>(k);
+  }
+  std::ostringstream msg;
+  msg << Where(g) << "chordal initialisation: singular " << system << " system";
+  if (lo < 0) return msg.str();
+  auto edge = [&](int k) {
+    const io::Edge& e = g.edges[k];
+    std::ostringstream s;
+    s << w[k] << " (edge " << e.from << " -> " << e.to;
+    if (e.line > 0) s << ", line " << e.line;
+    s << ")";
+    return s.str();
+  };
+  msg << ": the edges' weights from their information matrices range from " << edge(lo) << " to "
+      << edge(hi)
+      << ", beyond what a double factorisation resolves; repair those information matrices, or "
+         "initialise with the spanning tree";
+  return msg.str();
 }
 
 // The root (gauge) pose: root_id, else the first FIX id that is a pose (a FIX
@@ -254,7 +286,7 @@ void InitializeChordal(Graph* g, int root_id) {
   // sides, one matrix). Residual of edge i→j: x_j − Zᵀ x_i.
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n * d, d);
-  std::vector<double> tau(g->edges.size(), 0.0);
+  std::vector<double> kappa(g->edges.size(), 0.0), tau(g->edges.size(), 0.0);
   auto add_block = [&](int r, int c, const Eigen::MatrixXd& B) {
     for (int a = 0; a < d; ++a)
       for (int b = 0; b < d; ++b)
@@ -266,33 +298,32 @@ void InitializeChordal(Graph* g, int root_id) {
     if (!IsPosePose(e.kind)) continue;
     const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
     const Eigen::MatrixXd Z = EdgeMatrix(e).topLeftCorner(d, d);
-    double kappa;
     if (d == 3) {
-      kappa = 3.0 / (2.0 * e.information.bottomRightCorner<3, 3>().inverse().trace());
+      kappa[k] = 3.0 / (2.0 * e.information.bottomRightCorner<3, 3>().inverse().trace());
       tau[k] = 3.0 / e.information.topLeftCorner<3, 3>().inverse().trace();
     } else {
-      kappa = e.information(2, 2);
+      kappa[k] = e.information(2, 2);
       tau[k] = 2.0 / e.information.topLeftCorner<2, 2>().inverse().trace();
     }
+    const double kap = kappa[k];
     // ‖x_j − Zᵀx_i‖²: H_ii += κ ZZᵀ = κI, H_jj += κI, H_ij = −κZ, H_ji = −κZᵀ.
-    if (unk[i] >= 0) add_block(unk[i], unk[i], kappa * I);
-    if (unk[j] >= 0) add_block(unk[j], unk[j], kappa * I);
+    if (unk[i] >= 0) add_block(unk[i], unk[i], kap * I);
+    if (unk[j] >= 0) add_block(unk[j], unk[j], kap * I);
     if (unk[i] >= 0 && unk[j] >= 0) {
-      add_block(unk[i], unk[j], -kappa * Z);
-      add_block(unk[j], unk[i], -kappa * Z.transpose());
+      add_block(unk[i], unk[j], -kap * Z);
+      add_block(unk[j], unk[i], -kap * Z.transpose());
     } else if (unk[j] >= 0) {  // i is the root: x_i known (column k = row k of R_root)
-      rhs.block(unk[j] * d, 0, d, d) += kappa * Z.transpose() * R_root.transpose();
+      rhs.block(unk[j] * d, 0, d, d) += kap * Z.transpose() * R_root.transpose();
     } else if (unk[i] >= 0) {  // j is the root
-      rhs.block(unk[i] * d, 0, d, d) += kappa * Z * R_root.transpose();
+      rhs.block(unk[i] * d, 0, d, d) += kap * Z * R_root.transpose();
     }
   }
   Eigen::SparseMatrix<double> H(n * d, n * d);
   H.setFromTriplets(trip.begin(), trip.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
-  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, Where(*g),
-                "chordal initialisation: singular rotation system");
+  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, SingularSystem(*g, "rotation", kappa));
   const Eigen::MatrixXd X = ldlt.solve(rhs);
-  BOXPLUS_CHECK(X.allFinite(), Where(*g), "chordal initialisation: singular rotation system");
+  BOXPLUS_CHECK(X.allFinite(), SingularSystem(*g, "rotation", kappa));
   std::vector<Eigen::MatrixXd> R(g->vertices.size());
   R[root] = R_root;
   for (size_t i = 0; i < g->vertices.size(); ++i) {
@@ -334,10 +365,9 @@ void InitializeChordal(Graph* g, int root_id) {
   Eigen::SparseMatrix<double> L(n, n);
   L.setFromTriplets(trip.begin(), trip.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> lldlt(L);
-  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, Where(*g),
-                "chordal initialisation: singular translation system");
+  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, SingularSystem(*g, "translation", tau));
   const Eigen::MatrixXd t = lldlt.solve(b);
-  BOXPLUS_CHECK(t.allFinite(), Where(*g), "chordal initialisation: singular translation system");
+  BOXPLUS_CHECK(t.allFinite(), SingularSystem(*g, "translation", tau));
   std::vector<char> done(g->vertices.size(), 0);
   for (size_t i = 0; i < g->vertices.size(); ++i) {
     if (unk[i] < 0) {

@@ -19,11 +19,20 @@ Poses are boxplus SE3 values, tangent order [translation, rotation].
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
-from boxplus.calib.zhang import homography, init_camera, pose_from_homography
+from boxplus.calib.report import report
+from boxplus.calib.zhang import (
+    SOLVED_PARALLEL_PLANES_RAD,
+    check_board_planes,
+    homography,
+    init_camera,
+    pose_from_homography,
+)
 from boxplus.geometry import (
     CAMERA_LABELS,
     absolute_orientation,
@@ -37,7 +46,8 @@ from boxplus.geometry import (
 from boxplus.manifolds import SE3, SO3
 
 __all__ = [
-    "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "init_camera",
+    "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "check_solved_views",
+    "init_camera",
     "board_pose", "mean_pose", "relative_pose_init", "rotation_between", "hand_eye_park",
     "robot_world_hand_eye", "triangulate", "marker_hand_eye",
 ]
@@ -84,6 +94,42 @@ def check_views(
         raise ValueError(f"{camera}: {len(out)} views, at least {min_views} are needed to calibrate "
                          "a camera from a planar board")
     return out
+
+
+# A focal length whose σ exceeds this fraction of it is barely determined.
+FOCAL_REL_STD = 0.1
+
+
+def check_solved_views(problem: Any, cameras: Sequence[int], world_from_cam: Sequence[int],
+                       camera: str = "camera") -> None:
+    """The degenerate-view checks on a solved board calibration.
+
+    ``world_from_cam`` are the pose variables of the views (in their order),
+    ``cameras`` the intrinsics variables. Raises ValueError naming the views
+    when the solved board planes are parallel (within
+    ``SOLVED_PARALLEL_PLANES_RAD``; the closed form's poses are bent by lens
+    distortion, the solved ones are not), and warns (UserWarning) when the
+    solve leaves a focal length with σ above ``FOCAL_REL_STD`` of its value:
+    nearly parallel or nearly fronto-parallel boards, whose refinement can
+    converge to a focal length off by a factor with only its σ to tell.
+    """
+    # the board's normal e3 in camera coordinates: (world_from_cam.R)ᵀ e3
+    N = np.array([problem[v].rot.R[2, :] for v in world_from_cam])
+    check_board_planes(N, camera, SOLVED_PARALLEL_PLANES_RAD)
+    if len(N) == 0:
+        return
+    rep = report(problem)
+    spread = np.degrees(np.arccos(np.clip(np.abs(N @ N.T), 0.0, 1.0)).max())
+    for cam in cameras:
+        name = problem.variable_name(cam)
+        for p in rep.parameters:
+            if p.variable == name and p.label in ("f", "fx", "fy") and p.value > 0 \
+                    and not p.std <= FOCAL_REL_STD * p.value:
+                warnings.warn(
+                    f"{camera}: {name}.{p.label} = {p.value:.1f} ± {p.std:.1f} px is barely "
+                    f"determined by views {', '.join(str(i) for i in range(len(N)))} (their board "
+                    f"planes are at most {spread:.1f}° apart); take views with the board tilted "
+                    f"further in different directions", stacklevel=3)
 
 
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,

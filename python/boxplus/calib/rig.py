@@ -22,12 +22,13 @@ from boxplus._core import SolveSummary
 from boxplus.calib.init import (
     CAMERA_LABELS,
     camera_matrix,
+    check_solved_views,
     check_views,
     init_camera,
     intrinsics_vector,
     relative_pose_init,
 )
-from boxplus.manifolds import SE3, SO3, Rn
+from boxplus.manifolds import SE3, Rn
 
 __all__ = ["add_camera", "Calibration", "calibrate_mono", "calibrate_stereo", "detect_corners"]
 
@@ -64,42 +65,9 @@ class Calibration:
         return report(self.problem, rescale=rescale)
 
 
-# Two views whose boards are turned by less than this show the same orientation.
-_SAME_ORIENTATION_RAD = np.radians(1.0)
-
-
-def _check_orientations(cam_from_board: Sequence[SE3], camera: str) -> None:
-    """Raises ValueError unless the views show the board in ≥ 2 orientations.
-
-    Zhang's method (and the maximum-likelihood refinement after it) needs the
-    board turned between views: views that differ only by a translation, or are
-    repeated, constrain K like a single view, whose planar homography (8
-    numbers) cannot give the pose (6) and the intrinsics (4+) — the solve then
-    "converges" to a focal length several times off with no error. With zero
-    skew, two different orientations determine the intrinsics.
-    """
-    R = [p.rot.R for p in cam_from_board]
-    distinct: list[list[int]] = []  # views grouped by orientation
-    for i, Ri in enumerate(R):
-        for group in distinct:
-            if np.linalg.norm(SO3(R[group[0]].T @ Ri).log()) < _SAME_ORIENTATION_RAD:
-                group.append(i)
-                break
-        else:
-            distinct.append([i])
-    if len(distinct) < 2:
-        views = ", ".join(str(i) for i in distinct[0]) if distinct else "none"
-        raise ValueError(
-            f"{camera}: the board has the same orientation (within "
-            f"{np.degrees(_SAME_ORIENTATION_RAD):.0f}°) in every view ({views}): the intrinsics "
-            f"are not determined; take views with the board tilted in at least two different "
-            f"orientations")
-
-
 def _camera_init(image_points, object_points, image_size, camera):
     pts = check_views(image_points, object_points, image_size, camera)
-    K, cam_from_board = init_camera(object_points, pts, image_size)
-    _check_orientations(cam_from_board, camera)
+    K, cam_from_board = init_camera(object_points, pts, image_size, camera)
     return pts, K, cam_from_board
 
 
@@ -110,20 +78,22 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
 
     The corner noise is ``sigma`` (σ or [σu, σv], pixels) or a 2×2 ``covariance``
     (none: σ = 1). Raises ValueError naming the camera and view for bad
-    detections, and when the board has one orientation in every view (the
-    intrinsics are then undetermined)."""
+    detections, and when the board planes are parallel in every view (the
+    intrinsics are then undetermined); warns when the solved focal length is
+    barely determined (:func:`boxplus.calib.init.check_solved_views`)."""
     pts, K, cam_from_board = _camera_init(image_points, object_points, image_size, name)
     o = _problem.OptimizationProblem()
     cam = add_camera(o, name, K, model)
     ident = o.add_random_var(SE3(), fixed=True, name="identity")
-    mids = []
+    mids, views = [], []
     for i, (p, pose) in enumerate(zip(pts, cam_from_board)):
-        world_from_cam = o.add_random_var(pose.inverse(), name=f"world_from_{name}_{i}")
-        mids.append(o.add_board(p, cam, world_from_cam, ident, object_points, sigma=sigma,
+        views.append(o.add_random_var(pose.inverse(), name=f"world_from_{name}_{i}"))
+        mids.append(o.add_board(p, cam, views[-1], ident, object_points, sigma=sigma,
                                 covariance=covariance, model=model, group=name))
     cal = Calibration(o, model, {name: cam}, {name: mids})
     if solve:
         cal.result = o.solve()
+        check_solved_views(o, [cam], views, name)
     return cal
 
 
@@ -135,7 +105,8 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
     """A stereo pair seeing the same boards: intrinsics of both cameras, right_from_left
     and one world_from_left per view, jointly (or with ``fixed_intrinsics`` =
     (k_left, k_right) model vectors held constant, like OpenCV's
-    CALIB_FIX_INTRINSIC)."""
+    CALIB_FIX_INTRINSIC). Refuses parallel boards and warns of a barely determined
+    focal length like :func:`calibrate_mono`."""
     if len(left_points) != len(right_points):
         raise ValueError(f"stereo: {len(left_points)} left and {len(right_points)} right views")
     pl, Kl, left_from_board = _camera_init(left_points, object_points, image_size, "left")
@@ -152,9 +123,10 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
     ident = o.add_random_var(SE3(), fixed=True, name="identity")
     right_from_left = o.add_random_var(relative_pose_init(left_from_board, right_from_board),
                                        name="right_from_left")
-    ml, mr = [], []
+    ml, mr, views = [], [], []
     for i, (zl, zr, pose) in enumerate(zip(pl, pr, left_from_board)):
         world_from_left = o.add_random_var(pose.inverse(), name=f"world_from_left_{i}")
+        views.append(world_from_left)
         ml.append(o.add_board(zl, left, world_from_left, ident, object_points, sigma=sigma,
                               covariance=covariance, model=model, group="left"))
         mr.append(o.add_board(zr, right, world_from_left, right_from_left, object_points,
@@ -163,6 +135,9 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
                       {"left": ml, "right": mr})
     if solve:
         cal.result = o.solve()
+        # the right camera sees the same boards turned by one rotation: the
+        # same spread of planes
+        check_solved_views(o, [left, right], views, "stereo")
     return cal
 
 

@@ -3,7 +3,10 @@
 Z. Zhang, "A flexible new technique for camera calibration", IEEE PAMI 22(11),
 2000: a homography per view (normalised DLT), the intrinsic matrix from the
 constraints each homography puts on B = K⁻ᵀK⁻¹ (Sec. 3.1), and each view's pose
-from K⁻¹H (Sec. 3.1, eq. 12), projected onto SO(3).
+from K⁻¹H (Sec. 3.1, eq. 12), projected onto SO(3). Views whose board planes
+are all parallel (translations and turns of the board in its own plane only)
+are the degenerate configuration of Zhang's paper (a plane parallel to an
+earlier one adds no constraint): they are refused.
 
 Frames: the target's points are ``p_in_board`` with z = 0; a pose returned as
 ``cam_from_board`` maps them into the camera frame (p_in_cam = R p + t).
@@ -18,7 +21,18 @@ import numpy as np
 from boxplus.geometry import project_to_so3
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["homography", "init_camera", "intrinsics_from_homographies", "pose_from_homography"]
+__all__ = ["board_normals", "check_board_planes", "homography", "init_camera",
+           "intrinsics_from_homographies", "pose_from_homography", "PARALLEL_PLANES_RAD",
+           "SOLVED_PARALLEL_PLANES_RAD"]
+
+# Boards whose planes are turned by less than this are parallel. The normals
+# from the homographies of distorted pixels are off by several degrees (lens
+# distortion bends the board's image), so before the solve only nearly exact
+# repeats are caught; after it the poses are accurate, and parallel boards
+# come out at most ~3° apart (measured over translation-only and in-plane-turn
+# view sets), well below a usable set's spread (≥ 10°).
+PARALLEL_PLANES_RAD = np.radians(1.0)
+SOLVED_PARALLEL_PLANES_RAD = np.radians(5.0)
 
 
 def _normaliser(p: np.ndarray) -> np.ndarray:
@@ -121,11 +135,60 @@ def pose_from_homography(K: np.ndarray, H: np.ndarray) -> SE3:
     return SE3(SO3(R), t)
 
 
+def board_normals(K: np.ndarray, Hs: Sequence[np.ndarray]) -> np.ndarray:
+    """Unit normals (N, 3) of the board planes in the camera frame: r1 × r2 of
+    K⁻¹H (eq. 12), sign-free.
+
+    Not orthonormalised on purpose: r1 × r2 ∝ Kᵀ H⁻ᵀ e3, Kᵀ times the image of
+    the board's line at infinity, which parallel planes share. Parallel boards
+    therefore give equal normals for any K, also for the wrong K that Zhang's
+    closed form returns from exactly such views.
+    """
+    out = []
+    for H in Hs:
+        A = np.linalg.solve(K, H)
+        n = np.cross(A[:, 0], A[:, 1])
+        out.append(n / np.linalg.norm(n))
+    return np.array(out).reshape(-1, 3)
+
+
+def check_board_planes(normals: np.ndarray, camera: str = "camera",
+                       tolerance_rad: float = PARALLEL_PLANES_RAD) -> None:
+    """Raises ValueError, naming the views, when all board planes are parallel.
+
+    ``normals`` (N, 3) are the planes' normals in the camera frame, one per
+    view; they are parallel when no two are more than ``tolerance_rad`` apart.
+    That is the degenerate configuration of Zhang's paper: a view whose board
+    plane is parallel to another's adds no constraint on B = K⁻ᵀK⁻¹ —
+    repeated views, views that differ by a translation only, or by a turn of
+    the board in its own plane (e.g. all fronto-parallel). Such a set fixes K
+    like one view: 2 constraints for the 4 intrinsics of zero skew, and the
+    refinement after it "converges" to a focal length off by a factor. Two
+    plane orientations give the 4 (with zero skew).
+    """
+    N = np.asarray(normals, float).reshape(-1, 3)
+    if len(N) == 0:
+        return
+    # |cos|: a plane's normal and its negative are one orientation
+    spread = float(np.arccos(np.clip(np.abs(N @ N.T), 0.0, 1.0)).max())
+    if spread < tolerance_rad:
+        views = ", ".join(str(i) for i in range(len(N)))
+        raise ValueError(
+            f"{camera}: the board has the same orientation in every view ({views}), up to "
+            f"translations and turns in its own plane: the board planes are parallel (at most "
+            f"{np.degrees(spread):.2g}° apart, tolerance {np.degrees(tolerance_rad):.0f}°), which "
+            f"leaves the intrinsics undetermined (Zhang's degenerate configuration); take views "
+            f"with the board tilted in at least two different directions")
+
+
 def init_camera(
     object_points: np.ndarray | Sequence[np.ndarray], image_points: Sequence[np.ndarray],
-    image_size: tuple[int, int]
+    image_size: tuple[int, int], camera: str = "camera"
 ) -> tuple[np.ndarray, list[SE3]]:
     """K and one cam_from_board pose per view, from a planar target (z = 0).
+
+    Raises ValueError naming ``camera`` and the views when all board planes
+    are parallel (:func:`check_board_planes`).
 
     Parameters
     ----------
@@ -135,6 +198,8 @@ def init_camera(
     image_points : sequence of (M, 2) (or (M_i, 2))
         Their detections in each view (pixels).
     image_size : (width, height)
+    camera : str
+        The camera's name in error messages.
     """
     try:
         shared = np.asarray(object_points, dtype=float)
@@ -153,4 +218,5 @@ def init_camera(
             raise ValueError("init_camera: object_points must be (M, 3) with z = 0 (a planar target)")
         Hs.append(homography(obj[:, :2], np.asarray(p, dtype=float)))
     K = intrinsics_from_homographies(Hs, image_size)
+    check_board_planes(board_normals(K, Hs), camera)
     return K, [pose_from_homography(K, H) for H in Hs]

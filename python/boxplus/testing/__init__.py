@@ -5,12 +5,16 @@ seeded fuzzer of the loader and the CLI (:mod:`boxplus.testing.fuzz`)."""
 import os
 import shutil
 import sys
+from pathlib import Path
 
 
 def boxplus_g2o() -> str:
-    """Path of the ``boxplus-g2o`` installed next to this interpreter (the
-    package's own command-line tool, not another one on PATH)."""
-    exe = shutil.which("boxplus-g2o", path=os.path.dirname(sys.executable))
-    if exe is None:
-        raise FileNotFoundError("boxplus-g2o is not installed next to the Python interpreter")
-    return exe
+    """Path of the ``boxplus-g2o`` installed with this package (not another one
+    on PATH): beside the package for ``pip install --target DIR`` (DIR/bin, how
+    ``make sanitize`` installs the instrumented build), else next to the
+    interpreter (a virtual environment's bin/)."""
+    for d in (Path(__file__).resolve().parents[2] / "bin", Path(sys.executable).parent):
+        exe = shutil.which("boxplus-g2o", path=os.fspath(d))
+        if exe is not None:
+            return exe
+    raise FileNotFoundError("boxplus-g2o is not installed with the boxplus package")

@@ -27,7 +27,7 @@ The first four of the last five are failures: the input is written to
 Cases run in worker subprocesses so that a crash is caught and named.
 
     python -m boxplus.testing.fuzz --cases 1000000 --seed 1
-    python -m boxplus.testing.fuzz --cases 10000 --cli-sample 50
+    python -m boxplus.testing.fuzz --cases 1000000 --minutes 60 --cli build/cpp/boxplus-g2o
 """
 
 from __future__ import annotations
@@ -463,16 +463,19 @@ def _save_regression(directory: Path, data: bytes, options: dict, outcome: str, 
 
 def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | None = None,
         cli_every: int = 200, regressions: Path | None = Path("tests/data/fuzz_regressions"),
-        chunk: int = 2000, verbose: bool = False) -> tuple:
-    """Runs `cases` seeded cases in worker subprocesses; returns (Counter of
-    outcomes, list of (index, outcome, detail) of the bad ones)."""
+        chunk: int = 2000, verbose: bool = False, minutes: float | None = None) -> tuple:
+    """Runs `cases` seeded cases in worker subprocesses (or fewer: as many whole
+    chunks as fit in `minutes`); returns (Counter of outcomes, list of (index,
+    outcome, detail) of the bad ones). Bad inputs are saved chunk by chunk, so
+    an interrupted long run keeps what it found."""
     counts: Counter = Counter()
-    bad = []
+    bad: list = []
     corpus = seeds(data)
     start = 0
+    t0 = time.monotonic()
     with tempfile.TemporaryDirectory() as d:
         progress = os.path.join(d, "progress")
-        while start < cases:
+        while start < cases and (minutes is None or time.monotonic() - t0 < 60 * minutes):
             end = min(cases, start + chunk)
             cmd = [sys.executable, "-m", "boxplus.testing.fuzz", "--worker", "--seed", str(seed),
                    "--start", str(start), "--end", str(end), "--progress", progress,
@@ -480,6 +483,7 @@ def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | N
             if cli:
                 cmd += ["--cli", cli]
             last = start - 1
+            new_bad = []
             with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
                 assert p.stdout is not None  # stdout=PIPE
                 for line in p.stdout:
@@ -487,19 +491,21 @@ def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | N
                     last = i
                     counts[outcome] += 1
                     if outcome in BAD:
-                        bad.append((i, outcome, detail))
+                        new_bad.append((i, outcome, detail))
             if last + 1 < end:  # the worker died on case last + 1
                 i = last + 1
                 counts["crash"] += 1
-                bad.append((i, "crash", f"worker exit {p.returncode}"))
+                new_bad.append((i, "crash", f"worker exit {p.returncode}"))
                 last = i
             start = last + 1
+            if regressions is not None:
+                for i, outcome, detail in new_bad:
+                    _, data_i, options = make_case(seed, i, corpus)
+                    _save_regression(Path(regressions), data_i, options, outcome, detail)
+            bad += new_bad
             if verbose:
-                print(f"{start}/{cases} {dict(counts)}", file=sys.stderr)
-    if regressions is not None:
-        for i, outcome, detail in bad:
-            _, data_i, options = make_case(seed, i, corpus)
-            _save_regression(Path(regressions), data_i, options, outcome, detail)
+                print(f"{start}/{cases} {time.monotonic() - t0:.0f} s {dict(counts)}",
+                      file=sys.stderr, flush=True)
     return counts, bad
 
 
@@ -511,6 +517,8 @@ def main(argv=None) -> int:
     ap.add_argument("--cli", default=None, help="path of boxplus-g2o (a sample of cases)")
     ap.add_argument("--cli-every", type=int, default=200)
     ap.add_argument("--chunk", type=int, default=2000)
+    ap.add_argument("--minutes", type=float, default=None,
+                    help="stop after the chunk that passes this wall-clock budget")
     ap.add_argument("--regressions", type=Path, default=Path("tests/data/fuzz_regressions"))
     ap.add_argument("--no-save", action="store_true", help="do not write regression inputs")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
@@ -521,8 +529,9 @@ def main(argv=None) -> int:
     if args.worker:
         return _worker(args)
     counts, bad = run(args.cases, args.seed, args.data, args.cli, args.cli_every,
-                      None if args.no_save else args.regressions, args.chunk, verbose=True)
-    print(json.dumps({k: counts.get(k, 0) for k in OUTCOMES}))
+                      None if args.no_save else args.regressions, args.chunk, verbose=True,
+                      minutes=args.minutes)
+    print(json.dumps({"cases": sum(counts.values()), **{k: counts.get(k, 0) for k in OUTCOMES}}))
     for i, outcome, detail in bad[:50]:
         print(f"case {i}: {outcome}: {detail}")
     return 1 if bad else 0
