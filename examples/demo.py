@@ -6,7 +6,7 @@
 2. Calibrate a camera from OpenCV's chessboard sample (the MTKM paper's Listing 1,
    examples/camera_calibration.py) and compare with cv2.calibrateCamera.
 3. Pose-graph SLAM on the bundled Intel Research Lab graph (data/slam/intel.g2o,
-   examples/slam_pose_graph.py): chordal initialisation, then Levenberg–Marquardt;
+   examples/slam_pose_graph.py): the better start (file or chordal), then the default solver;
    chi2 per iteration, the optimised .g2o and a before/after PNG in slam_output/.
 """
 

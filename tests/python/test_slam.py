@@ -272,7 +272,7 @@ def test_example_slam_pose_graph(tmp_path):
     spec = importlib.util.spec_from_file_location("slam_pose_graph", path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    res = mod.main(["--out", str(tmp_path)])  # bundled data/slam/intel.g2o, chordal init
+    res = mod.main(["--out", str(tmp_path)])  # bundled data/slam/intel.g2o, the default start (chordal here)
     assert res["summary"].usable
     assert res["chi2"] <= 45.00469581 * (1 + 1e-6)  # g2o's (and GTSAM's) optimum on intel
     assert res["chi2_file"] > 500
