@@ -195,10 +195,7 @@ class GaussNewtonLineSearch {
       }
       if (!accepted) {
         RestoreAccepted();
-        return Finish("convergence",
-                      "the line search found no decrease along the "
-                      "Gauss-Newton direction",
-                      true);
+        return Finish("convergence", kNoDecreaseMessage, true);
       }
       const double old_cost = cost;
       const double step_norm = alpha * delta.norm();

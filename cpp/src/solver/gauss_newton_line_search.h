@@ -23,6 +23,12 @@
 
 namespace boxplus::internal {
 
+// SolveSummary::message when no step length decreases the cost along the
+// Gauss–Newton direction (termination "convergence"): the signal on which
+// kGaussNewtonFallback hands over to Levenberg–Marquardt.
+inline constexpr char kNoDecreaseMessage[] =
+    "the line search found no decrease along the Gauss-Newton direction";
+
 SolveSummary SolveGaussNewtonLineSearch(const std::vector<LsqBlock>& blocks,
                                         const std::vector<LsqTerm>& terms,
                                         const SolverOptions& options,

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "boxplus/progress.h"
+#include "gauss_newton_line_search.h"
 
 namespace boxplus::internal {
 
@@ -44,8 +45,8 @@ SolveSummary SolveGaussNewtonWithFallback(const SolverOptions& options,
     return true;
   };
   SolveSummary first = line_search(gn);
-  const bool no_decrease = first.termination == "convergence" &&
-                           first.message.find("line search found no decrease") != std::string::npos;
+  const bool no_decrease =
+      first.termination == "convergence" && first.message == kNoDecreaseMessage;
   if (user_stopped || !first.usable || !(switch_now || no_decrease) ||
       first.iterations >= options.max_iterations) {
     if (switch_now && !user_stopped) {
