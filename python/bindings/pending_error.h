@@ -18,7 +18,8 @@
 namespace boxplus::python {
 
 // One pending Python error; the first one is kept (later ones are usually
-// its consequences). All members must be used with the GIL held.
+// its consequences). Store and Take must be used with the GIL held; Has only
+// reads a pointer, so the thread that owns the slot may ask it without.
 class ErrorSlot {
  public:
   void Store(pybind11::error_already_set&& e);

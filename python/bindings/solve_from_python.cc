@@ -53,9 +53,20 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
   // re-raised after Ceres has returned; Ctrl-C only stops the solve.
   ErrorScope scope;
   ErrorSlot& slot = scope.slot();
-  o.on_iteration = [&](const IterationInfo& info) {
-    py::gil_scoped_acquire gil;
+  // Between iterations the GIL is taken only for Python work: the callback,
+  // or Ctrl-C, which Python delivers to the main thread alone. A solve
+  // without callback in another thread never takes it, so concurrent solves
+  // of C++ measurements run in parallel. The slot is filled on this thread
+  // (Ceres calls Python measurements and manifolds back on the thread that
+  // started it), so reading it needs no GIL.
+  const bool has_callback = !callback.is_none();
+  const bool main_thread =
+      py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>() ==
+      PyThread_get_thread_ident();
+  o.on_iteration = [&, has_callback, main_thread](const IterationInfo& info) {
     if (slot.Has()) return false;
+    if (!has_callback && !main_thread) return true;
+    py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) {
       if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
         PyErr_Clear();
@@ -64,7 +75,7 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
       slot.Store(py::error_already_set());
       return false;
     }
-    if (callback.is_none()) return true;
+    if (!has_callback) return true;
     try {
       return CallbackContinues(callback(info));
     } catch (py::error_already_set& e) {
