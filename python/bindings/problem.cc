@@ -6,6 +6,7 @@
 
 #include "bindings.h"
 #include "boxplus/factors/pose/prior.h"
+#include "boxplus/manifolds.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
 #include "pending_error.h"
@@ -16,7 +17,52 @@
 namespace py = pybind11;
 
 namespace boxplus::python {
+namespace {
+// Problem.set_value: size and Python manifold checked before the C++ problem
+// (which normalises unit parts) stores it.
+void SetValue(Problem& p, int id, const Eigen::VectorXd& v) {
+  if (v.size() != p.manifold(id).AmbientSize()) {
+    throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) + "'");
+  }
+  if (auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
+    pm->Validate(v.data(), VariableWhat(p, id));
+  }
+  p.SetValue(id, v.data());
+}
+
+// The value of kind T whose ambient vector is `a` bit for bit, for copies of
+// a problem (pickling): the public constructors normalise unit quaternions
+// and directions, and normalising a stored value again can move its last bit.
+// `a` must be a valid value already (within rounding of the normalised one).
+template <class T>
+py::object ExactValue(const Eigen::VectorXd& a, const std::string& kind) {
+  if (a.size() != T::kAmbient) {
+    throw py::value_error(kind + ": " + std::to_string(a.size()) + " numbers for an ambient size " +
+                          std::to_string(T::kAmbient));
+  }
+  T t = T::FromAmbient(a.data());  // validates
+  // The accessor's pointer is to t's own (non-const) storage.
+  double* x = const_cast<double*>(t.data());
+  if ((Eigen::Map<const Eigen::VectorXd>(x, a.size()) - a).cwiseAbs().maxCoeff() > 1e-12) {
+    throw py::value_error(kind + ": the ambient vector is not a normalised value");
+  }
+  std::copy(a.data(), a.data() + a.size(), x);
+  return py::cast(t);
+}
+}  // namespace
+
 void RegisterProblem(py::module_& m) {
+  m.def(
+      "exact_value",
+      [](const std::string& kind, const Eigen::VectorXd& a) {
+        if (kind == "SO3") return ExactValue<SO3>(a, kind);
+        if (kind == "SE3") return ExactValue<SE3>(a, kind);
+        if (kind == "S2") return ExactValue<S2>(a, kind);
+        throw py::value_error("exact_value: kind must be SO3, SE3 or S2, got '" + kind + "'");
+      },
+      py::arg("kind"), py::arg("ambient"),
+      "The SO3, SE3 or S2 value with exactly these ambient numbers (from_ambient "
+      "normalises again, which can move the last bit); for copies of a problem.");
   py::class_<Problem>(m, "Problem", R"doc(
 The C++ least-squares problem: variables on manifolds and whitened residuals.
 The public, friendlier front is boxplus.OptimizationProblem.
@@ -46,19 +92,22 @@ The public, friendlier front is boxplus.OptimizationProblem.
             return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(p.value(id), n));
           },
           py::arg("id"), "Copy of the variable's ambient vector.")
+      .def("set_value", &SetValue, py::arg("id"), py::arg("value"))
       .def(
-          "set_value",
+          "restore_value",
           [](Problem& p, int id, const Eigen::VectorXd& v) {
-            if (v.size() != p.manifold(id).AmbientSize()) {
-              throw py::value_error("set_value: wrong size for variable '" + p.variable_name(id) +
-                                    "'");
+            SetValue(p, id, v);  // validates, holds the problem, normalises
+            // A stored value was normalised already; normalising it again can move
+            // its last bits, so a copy (pickling) puts back the exact bits when
+            // they differ from the normalised ones by rounding only.
+            double* stored = const_cast<double*>(p.value(id));
+            const int n = static_cast<int>(v.size());
+            if ((Eigen::Map<const Eigen::VectorXd>(stored, n) - v).cwiseAbs().maxCoeff() <= 1e-12) {
+              std::copy(v.data(), v.data() + n, stored);
             }
-            if (auto* pm = dynamic_cast<const PythonManifold*>(&p.manifold(id))) {
-              pm->Validate(v.data(), VariableWhat(p, id));
-            }
-            p.SetValue(id, v.data());
           },
-          py::arg("id"), py::arg("value"))
+          py::arg("id"), py::arg("value"),
+          "set_value for a value read with value(id): the same bits back (for copies).")
       .def("variable_name", &Problem::variable_name, py::arg("id"))
       .def("measurement_name", &Problem::measurement_name, py::arg("id"))
       .def("measurement_variables", &Problem::measurement_variables, py::arg("id"))

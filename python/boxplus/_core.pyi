@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'exact_value', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -982,6 +982,10 @@ class Problem:
         """
         Whitened residual of one measurement.
         """
+    def restore_value(self, id: typing.SupportsInt | typing.SupportsIndex, value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
+        """
+        set_value for a value read with value(id): the same bits back (for copies).
+        """
     def set_fixed(self, id: typing.SupportsInt | typing.SupportsIndex, fixed: bool = True) -> None:
         ...
     def set_value(self, id: typing.SupportsInt | typing.SupportsIndex, value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
@@ -1194,6 +1198,10 @@ class PoseGraph:
 def camera_model_size(model: str) -> int:
     """
     Number of intrinsic parameters of a camera model.
+    """
+def exact_value(kind: str, ambient: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Any:
+    """
+    The SO3, SE3 or S2 value with exactly these ambient numbers (from_ambient normalises again, which can move the last bit); for copies of a problem.
     """
 def format_progress(info: IterationInfo) -> str:
     """

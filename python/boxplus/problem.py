@@ -28,7 +28,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from boxplus import _core, batch, solver
+from boxplus import _core, _description, batch, solver
 from boxplus.calib.factors import CalibrationFactors
 from boxplus.losses import LossSpec, make_loss
 from boxplus.manifolds import Codec, codec_of
@@ -522,3 +522,18 @@ class OptimizationProblem(CalibrationFactors):
     def cost(self) -> float:
         """½ Σ ρ(‖rᵢ‖²) at the current values."""
         return self._core.cost()
+
+    # ---- pickling --------------------------------------------------------------------
+    def __getstate__(self) -> dict[str, Any]:
+        """The problem's description: its journalled building calls, values and fixed
+        flags (:mod:`boxplus._description`); measurement functions by reference."""
+        return _description.state_of(self)
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Rebuilds the problem by replaying its description on a new C++ problem."""
+        OptimizationProblem.__init__(self)
+        _description.rebuild(self, state)
+
+
+# Pickling: the calls that build a problem are journalled (boxplus._description).
+_description.journal_calls(OptimizationProblem)
