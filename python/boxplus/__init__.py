@@ -13,6 +13,8 @@ The main entry point is :class:`OptimizationProblem`::
 """
 
 from boxplus import batch, losses, measurements, noise, solver
+from boxplus import blas_threads as blas_threads
+from boxplus import parallel as parallel
 from boxplus._core import (
     BoxplusError,
     BoxplusIndexError,
@@ -40,6 +42,8 @@ from boxplus.manifolds import (
     codec_of,
     make_compound,
 )
+from boxplus.parallel import TaskResult as TaskResult
+from boxplus.parallel import solve_many as solve_many
 from boxplus.problem import EvaluationError, OptimizationProblem
 
 __all__ = [
