@@ -27,6 +27,8 @@ venv: deps
 	@$(VPY) -m pip install -q --disable-pip-version-check \
 	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
 	    "opencv-python-headless>=4.8,<5" ruff pybind11-stubgen mypy
+	@# solve_many's cluster tests (Ray, Dask) and both BLAS thread controls
+	@$(VPY) -m pip install -q --disable-pip-version-check threadpoolctl "ray>=2.9" "dask[distributed]>=2023.1"
 
 # pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
 install: venv

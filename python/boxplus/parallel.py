@@ -14,9 +14,10 @@ any executor:
 
 Each task is deterministic: it gets its problem (or its input and, with
 ``seed``, its own random generator ``numpy.random.default_rng([seed, index])``)
-whatever worker runs it, and a solve caps BLAS at its ``num_threads``
-(:mod:`boxplus.blas_threads`), so every executor returns the serial answer to
-the last bit. A task whose *code* raises reports the error (its traceback as
+whatever worker runs it, and a task (build, solve, ``extract``) caps BLAS at
+the solve's ``num_threads`` (:mod:`boxplus.blas_threads`), so tasks side by
+side do not oversubscribe the cores and every executor returns the serial
+answer to the last bit. A task whose *code* raises reports the error (its traceback as
 text) in its :class:`TaskResult`; a task whose *worker* fails (a process that
 died, a lost connection, a cancelled future) is submitted again, at most
 ``retries`` times, and reported as failed if it still does not come back.
@@ -34,6 +35,8 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np
+
+from boxplus import blas_threads, solver
 
 __all__ = ["RayExecutor", "TaskResult", "map_tasks", "solve_many"]
 
@@ -168,11 +171,13 @@ def map_tasks(fn: Callable, tasks: Sequence[tuple], executor: Any = None,
 
 def _solve_task(problem: Any, builder: Callable | None, item: Any, rng_key: Any,
                 extract: Callable | None, options: Any, overrides: dict[str, Any]) -> TaskResult:
-    """One task of solve_many, on a worker: build (if asked), solve, extract."""
-    if builder is not None:
-        problem = builder(item) if rng_key is None else builder(item, np.random.default_rng(rng_key))
-    summary = problem.solve(options, **overrides)
-    value = problem if extract is None else extract(problem, summary)
+    """One task of solve_many, on a worker: build (if asked), solve, extract, all with
+    BLAS capped at the solve's num_threads (the tasks beside it have the other cores)."""
+    with blas_threads.limit(solver._num_threads(options, overrides)):
+        if builder is not None:
+            problem = builder(item) if rng_key is None else builder(item, np.random.default_rng(rng_key))
+        summary = problem.solve(options, **overrides)
+        value = problem if extract is None else extract(problem, summary)
     return TaskResult(0, value=value, summary=summary)
 
 
