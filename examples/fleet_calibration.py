@@ -63,7 +63,9 @@ class Rig:
     truth: dict[str, Any]
     z: dict[str, list[np.ndarray]] = field(default_factory=dict)  # camera -> views (N, 2) px
     g: list[np.ndarray] = field(default_factory=list)  # accelerometer per view, m/s²
-    views: list[Any] = field(default_factory=list)  # true world_from_rig per view
+    # true world_from_rig per view, as ambient vectors: a pickled SE3 is normalised
+    # again on load, which can move its last bit (and then a worker's answer)
+    views: list[np.ndarray] = field(default_factory=list)
 
 
 def simulate_rig(index: int, rng: np.random.Generator, fault: str = "", n_views: int = 8) -> Rig:
@@ -79,7 +81,7 @@ def simulate_rig(index: int, rng: np.random.Generator, fault: str = "", n_views:
     p_in_world = board_points()
     center = p_in_world.mean(axis=0)
     views = random_views(n_views, rng, center)
-    rig.views = views
+    rig.views = [np.asarray(v.ambient) for v in views]
     rig.z = {"left": [], "right": []}
     R_ir, s, b = imu_from_rig.rot.R, accel[0], accel[1:]
     for world_from_rig in views:
@@ -112,8 +114,8 @@ def build(rig: Rig, rng: np.random.Generator | None = None) -> bp.OptimizationPr
     accel = o.add_random_var(bp.Rn([1.0, 0, 0, 0]), name="accel", labels=["scale", "bx", "by", "bz"])
     # The IMU's position does not enter the measurements: measured by hand (σ 5 mm).
     o.add_prior(imu, DESIGN_IMU_FROM_RIG, sigma=[0.005] * 3 + [10.0] * 3, name="imu_by_hand")
-    for i, true_pose in enumerate(rig.views):
-        guess = true_pose + np.r_[start.normal(0, 0.01, 3), start.normal(0, 0.017, 3)]
+    for i, view in enumerate(rig.views):
+        guess = bp.SE3.from_ambient(view) + np.r_[start.normal(0, 0.01, 3), start.normal(0, 0.017, 3)]
         pose = o.add_random_var(guess, name=f"world_from_rig_{i}")
         for cam, cam_from_rig in (("left", rig_id), ("right", right)):
             z = rig.z[cam][i]
@@ -170,6 +172,17 @@ def run_fleet(rigs: list[Rig], executor: Any = None, seed: int = 1) -> list[bp.T
                          max_iterations=100)
 
 
+# The line's acceptance: the largest σ each kept parameter may have (directions of
+# its tangent, limit, unit). A rig above it is degenerate even when its Jacobian
+# has full rank: its data determine the parameter too weakly to ship.
+ACCEPT_STD = {
+    "k_left": (slice(0, 2), 10.0, "px"),
+    "k_right": (slice(0, 2), 10.0, "px"),
+    "right_from_left": (slice(0, 3), 0.01, "m"),
+    "imu_from_rig": (slice(3, 6), np.radians(1.0), "rad"),
+}
+
+
 def verdicts(results: list[bp.TaskResult], rigs: list[Rig]) -> dict[str, str]:
     """{rig name: why it is not calibrated} for the failed and degenerate rigs."""
     out = {}
@@ -177,9 +190,15 @@ def verdicts(results: list[bp.TaskResult], rigs: list[Rig]) -> dict[str, str]:
         if not r.ok:
             last = (r.error or "").strip().splitlines()[-1]
             out[rig.name] = f"failed: {last}"
-        elif r.value["undetermined"]:
+            continue
+        weak = [f"{name} σ {float(np.max(r.value['std'][name][part])):.3g} {unit} > {limit:.3g}"
+                for name, (part, limit, unit) in ACCEPT_STD.items()
+                if not np.max(r.value["std"][name][part]) <= limit]  # inf and NaN too
+        if r.value["undetermined"]:
             names = sorted({n.split(".")[0] for n in r.value["undetermined"]})
             out[rig.name] = "degenerate: not determined by the data: " + ", ".join(names)
+        elif weak:
+            out[rig.name] = "degenerate: too weakly determined: " + "; ".join(weak)
         elif not r.value["usable"] or r.value["termination"] != "convergence":
             out[rig.name] = f"solve did not converge ({r.value['termination']})"
     return out
