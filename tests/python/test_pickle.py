@@ -168,3 +168,25 @@ def test_summary_options_and_values_pickle():
         w = pickle.loads(pickle.dumps(v))
         assert type(w) is type(v)
         assert np.array_equal(bp.codec_of(w).to_ambient(w), bp.codec_of(v).to_ambient(v))
+
+
+def test_exact_values_keep_their_bits_and_refuse_other_vectors():
+    from boxplus import _core
+
+    q = bp.SO3.exp([0.3, -0.2, 0.1]).ambient * (1 + 1e-15)  # unit within rounding only
+    v = _core.exact_value("SO3", q)
+    assert type(v) is bp.SO3 and np.array_equal(v.ambient, q)
+    pose = np.r_[1.0, 2.0, 3.0, q]
+    assert np.array_equal(_core.exact_value("SE3", pose).ambient, pose)
+    with pytest.raises(ValueError, match="not a normalised value"):
+        _core.exact_value("SO3", 2 * q)
+    with pytest.raises(ValueError, match="kind must be SO3, SE3 or S2"):
+        _core.exact_value("SO2", np.array([0.1]))
+    with pytest.raises(ValueError, match="ambient size 7"):
+        _core.exact_value("SE3", q)
+    o = bp.OptimizationProblem()
+    x = o.add_random_var(bp.SO3())
+    o._core.restore_value(x, q)
+    assert np.array_equal(o._core.value(x), q)
+    with pytest.raises(ValueError, match="wrong size"):
+        o._core.restore_value(x, np.ones(3))
