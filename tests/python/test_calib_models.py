@@ -163,7 +163,8 @@ def test_double_sphere_fits_a_wide_angle_lens():
 
 @pytest.mark.parametrize("model", ["rational", "kannala_brandt"])
 def test_opencv_sample_matches_opencv(model):
-    d = np.load(DATA)
+    with np.load(DATA) as f:
+        d = {k: f[k] for k in f.files}
     obj, pts, size = d["object_points"], list(d["image_points_left"]), tuple(int(s) for s in d["image_size"])
     crit = (cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 1000, 1e-15)
     if model == "rational":
