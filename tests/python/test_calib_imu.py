@@ -144,3 +144,22 @@ def test_bad_gravity_inputs_raise():
         o.add_gravity(np.zeros(3), w, r3)
     with pytest.raises(TypeError, match="world_from_rig must be an SE3"):
         o.add_gravity(np.zeros(3), imu, w)
+
+
+def test_accelerometer_example_per_axis_within_3_sigma_single_scale_not():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "calib_accelerometer.py"
+    spec = importlib.util.spec_from_file_location("calib_accelerometer", path)
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    o, acc, imu, res = ex.calibrate(9, np.random.default_rng(0))
+    rep = report(o)
+    assert res.termination == "convergence" and not rep.undetermined
+    assert np.all(np.abs(o[acc].vec - ex.TRUE_ACCEL) < 3 * rep.std("accel"))
+    d = (ex.IMU_FROM_CAM.inverse() * o[imu]).log()
+    assert np.all(np.abs(d) < 3 * rep.std("imu_from_cam"))
+    o, acc, _, _ = ex.calibrate(4, np.random.default_rng(0))
+    bias_err = np.abs(o[acc].vec[1:] - ex.TRUE_ACCEL[3:6]) / report(o).std("accel")[1:]
+    assert bias_err.max() > 5
