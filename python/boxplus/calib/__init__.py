@@ -8,9 +8,13 @@
   rig calibration on the C++ board factor (with outlier rejection), corner
   detection (OpenCV, optional);
 * :mod:`~boxplus.calib.io` — OpenCV, ROS camera_info and Kalibr camchain YAML;
+* :mod:`~boxplus.calib.targets` — chessboard, ChArUco and AprilTag-grid targets (OpenCV);
+* :mod:`~boxplus.calib.uncertainty` — projection σ over the image, coverage;
+* :mod:`~boxplus.calib.cli` — the ``boxplus-calib`` command line;
 * :mod:`~boxplus.calib.report` — RMS per group, σ of every parameter, and the
   parameters the data cannot determine;
-* :mod:`~boxplus.calib.plot` — reprojection errors and the rig in 3-D (PNG).
+* :mod:`~boxplus.calib.plot` — reprojection errors, coverage, projection
+  uncertainty and the rig in 3-D (matplotlib Figures, PNG).
 
 * :mod:`~boxplus.calib.factors` — the C++ sensor factors as methods of
   :class:`boxplus.OptimizationProblem` (``add_projection``, ``add_board``,
@@ -54,6 +58,8 @@ from boxplus.calib.rig import (
     calibrate_stereo,
     detect_corners,
 )
+from boxplus.calib.targets import Target, parse_target
+from boxplus.calib.uncertainty import coverage, projection_sigma, projection_uncertainty
 from boxplus.calib.zhang import (
     homography,
     init_camera,
@@ -69,4 +75,5 @@ __all__ = [
     "marker_hand_eye", "robot_world_hand_eye", "rotation_between", "triangulate",
     "Camera", "DroppedCorner", "calibrate_rig", "read_camchain", "read_camera_info",
     "read_opencv_yaml", "to_opencv", "write_camchain", "write_camera_info", "write_opencv_yaml",
+    "Target", "coverage", "parse_target", "projection_sigma", "projection_uncertainty",
 ]
