@@ -99,7 +99,9 @@ class CalibrationFactors:
         r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z), z (2,) in
         pixels. ``intrinsics`` holds ``camera_model_size(model)`` numbers in the
         model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
-        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]); ``world_from_rig``
+        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]; rational: + [k1, k2, p1,
+        p2, k3, k4, k5, k6]; kannala_brandt: + [k1, k2, k3, k4]; double_sphere: + [ξ, α];
+        :data:`boxplus.calib.models.CAMERA_LABELS`); ``world_from_rig``
         and ``cam_from_rig`` are SE3 variables. RMS reports group these as
         ``projection[model]``.
         """
@@ -123,8 +125,8 @@ class CalibrationFactors:
         r_j = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world_j) − z_j);
         ``z`` (N, 2) pixels, ``p_in_world`` (N, 3) the same points in the board
         ("world") frame; the noise is that of one corner (2-dim), shared by the
-        points. ``group`` names the measurement group in RMS reports (default
-        ``board[model]``).
+        points. ``model`` is any camera model (:data:`boxplus.calib.models.CAMERA_LABELS`).
+        ``group`` names the measurement group in RMS reports (default ``board[model]``).
         """
         what = _what(name, "board", self._count())
         ids = self._check_ids([intrinsics, world_from_rig, cam_from_rig], what)
