@@ -3,6 +3,7 @@ are absent): detection, the stereo solve, the report, the YAML files (read
 back, and equal to the library's own calibration of the same corners) and
 the PNGs; and its refusals."""
 
+import os
 import re
 from pathlib import Path
 
@@ -16,7 +17,10 @@ pytest.importorskip("yaml")
 pytest.importorskip("matplotlib")
 
 ROOT = Path(__file__).resolve().parents[2]
-SAMPLE = Path("/work/shared/data/calib/opencv_stereo")
+# OpenCV's stereo sample images: the project's shared data folder beside the
+# checkout, or BOXPLUS_CALIB_SAMPLE
+SAMPLE = Path(os.environ.get("BOXPLUS_CALIB_SAMPLE",
+                             ROOT.parent / "shared" / "data" / "calib" / "opencv_stereo"))
 CORNERS = ROOT / "data" / "calib" / "opencv_stereo_corners.npz"
 
 
@@ -58,3 +62,17 @@ def test_stereo_sample_end_to_end(tmp_path, capsys):
     assert np.allclose(rig[0].intrinsics, cal.problem[cal.ids["left"]].vec, rtol=1e-6)
     assert np.allclose(rig[1].intrinsics, cal.problem[cal.ids["right"]].vec, rtol=1e-6)
     assert np.abs(rig[1].cam_from_ref.pos - cal.problem[cal.ids["right_from_left"]].pos).max() < 1e-6
+
+
+def test_refusals(tmp_path):
+    with pytest.raises(SystemExit, match="no images in"):
+        main(["--target", "chessboard:9x6:1", str(tmp_path)])
+    with pytest.raises(SystemExit, match="target 'board:9x6'"):
+        main(["--target", "board:9x6", str(tmp_path)])
+    with pytest.raises(SystemExit, match="unknown camera model 'fish'"):
+        main(["--target", "chessboard:9x6:1", "--model", "fish", str(tmp_path)])
+    (tmp_path / "a.png").write_bytes(b"not an image")
+    with pytest.raises(SystemExit, match="cannot read the image"):
+        main(["--target", "chessboard:9x6:1", "--quiet", str(tmp_path)])
+    with pytest.raises(SystemExit, match="expected NAME=FOLDER_OR_GLOB"):
+        main(["--target", "chessboard:9x6:1", "--camera", str(tmp_path)])
