@@ -916,9 +916,9 @@ class Problem:
         """
         Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see factors/depth/disparity.h.
         """
-    def add_gravity(self, model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
+    def add_gravity(self, model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None, imu_size: typing.SupportsInt | typing.SupportsIndex = 7) -> int:
         """
-        Gravity in the IMU: r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; see factors/imu/gravity.h.
+        Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see factors/imu/gravity.h.
         """
     def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
@@ -1213,7 +1213,7 @@ def format_summary(summary: SolveSummary) -> str:
     """
 def gravity_model_size(model: str) -> int:
     """
-    Size of the accelerometer block of a gravity model (rotation 0, scale 1, scale_bias 4).
+    Size of the accelerometer block of a gravity model (rotation 0, scale 1, scale_bias 4, axis_scale_bias 6, axis_scale_bias_misalignment 9).
     """
 def loss_names() -> list[str]:
     """

@@ -463,17 +463,48 @@ class OptimizationProblem(CalibrationFactors):
         """Marginal covariance of variable ``vid`` in its tangent space.
 
         Raises ValueError when the problem does not determine the variable (no
-        measurement depends on it, or the system is rank-deficient).
+        measurement depends on it, or the data leaves one of its directions
+        free). An undetermined *other* variable does not prevent it: the message
+        then names the undetermined variables, and the determined ones keep
+        their covariance (:meth:`joint_covariance`).
         """
-        self.codec(vid)
-        self._check_determined(int(vid))
-        return self._core.covariance(int(vid))
+        return self.joint_covariance([vid])
 
     def joint_covariance(self, ids: Sequence[int]) -> np.ndarray:
         ids = self._check_ids(ids, "joint_covariance")
         for v in ids:
             self._check_determined(v)
-        return self._core.joint_covariance(ids)
+        try:
+            return self._core.joint_covariance(ids)
+        except ValueError as e:
+            if "rank-deficient" not in str(e):
+                raise
+            # Ceres' covariance needs the whole Jacobian to have full rank.
+            return self._determined_covariance(ids, e)
+
+    def _determined_covariance(self, ids: list[int], error: Exception) -> np.ndarray:
+        """The joint covariance of ``ids`` when the Jacobian is rank-deficient
+        elsewhere: the block of (JᵀJ)⁺, which is the covariance of variables
+        the null space does not touch (:func:`boxplus.calib.report.determined_covariance`)."""
+        from boxplus.calib.report import determined_covariance  # calib imports this module
+
+        jac = self.jacobian()
+        J = np.asarray(jac["jacobian"])
+        if J.shape[1] > 5000:  # a dense SVD beyond this takes minutes
+            raise error
+        cols: dict[int, list[int]] = {}
+        for vid, off in zip(jac["variables"], jac["column_offsets"]):
+            cols[int(vid)] = list(range(int(off), int(off) + self.codec(vid).dof))
+        cov, undetermined = determined_covariance(J)
+        free = sorted({self.variable_name(v) or str(v) for v, c in cols.items()
+                       if undetermined[c].any()})
+        bad = [self.variable_name(v) or str(v) for v in ids if undetermined[cols[v]].any()]
+        if bad:
+            raise ValueError(f"covariance of {', '.join(map(repr, bad))} is undefined: the "
+                             f"measurements do not determine {', '.join(map(repr, free))} (add "
+                             f"measurements or priors, or fix them)")
+        idx = [c for v in ids for c in cols[v]]
+        return cov[np.ix_(idx, idx)]
 
     def std(self, vid: int) -> np.ndarray:
         """Standard deviations of variable ``vid`` along its tangent directions."""

@@ -2,11 +2,19 @@
 
 * :mod:`~boxplus.calib.init` — closed-form initial values (Zhang, PnP, stereo,
   gravity rotation, hand-eye);
-* :mod:`~boxplus.calib.rig` — cameras as variables, mono and stereo
-  calibration on the C++ board factor, corner detection (OpenCV, optional);
+* :mod:`~boxplus.calib.models` — every camera model (pinhole family,
+  rational, Kannala–Brandt, double sphere) in numpy: projection, rays, OpenCV layout;
+* :mod:`~boxplus.calib.rig` — cameras as variables, mono, stereo and N-camera
+  rig calibration on the C++ board factor (with outlier rejection), corner
+  detection (OpenCV, optional);
+* :mod:`~boxplus.calib.io` — OpenCV, ROS camera_info and Kalibr camchain YAML;
+* :mod:`~boxplus.calib.targets` — chessboard, ChArUco and AprilTag-grid targets (OpenCV);
+* :mod:`~boxplus.calib.uncertainty` — projection σ over the image, coverage;
+* :mod:`~boxplus.calib.cli` — the ``boxplus-calib`` command line;
 * :mod:`~boxplus.calib.report` — RMS per group, σ of every parameter, and the
   parameters the data cannot determine;
-* :mod:`~boxplus.calib.plot` — reprojection errors and the rig in 3-D (PNG).
+* :mod:`~boxplus.calib.plot` — reprojection errors, coverage, projection
+  uncertainty and the rig in 3-D (matplotlib Figures, PNG).
 
 * :mod:`~boxplus.calib.factors` — the C++ sensor factors as methods of
   :class:`boxplus.OptimizationProblem` (``add_projection``, ``add_board``,
@@ -30,14 +38,28 @@ from boxplus.calib.init import (
     rotation_between,
     triangulate,
 )
+from boxplus.calib.io import (
+    Camera,
+    read_camchain,
+    read_camera_info,
+    read_opencv_yaml,
+    to_opencv,
+    write_camchain,
+    write_camera_info,
+    write_opencv_yaml,
+)
 from boxplus.calib.report import CalibrationReport, report
 from boxplus.calib.rig import (
     Calibration,
+    DroppedCorner,
     add_camera,
     calibrate_mono,
+    calibrate_rig,
     calibrate_stereo,
     detect_corners,
 )
+from boxplus.calib.targets import Target, parse_target
+from boxplus.calib.uncertainty import coverage, projection_sigma, projection_uncertainty
 from boxplus.calib.zhang import (
     homography,
     init_camera,
@@ -51,4 +73,7 @@ __all__ = [
     "hand_eye_park", "homography", "init_camera", "intrinsics_from_homographies",
     "intrinsics_vector", "mean_pose", "pose_from_homography", "relative_pose_init", "report",
     "marker_hand_eye", "robot_world_hand_eye", "rotation_between", "triangulate",
+    "Camera", "DroppedCorner", "calibrate_rig", "read_camchain", "read_camera_info",
+    "read_opencv_yaml", "to_opencv", "write_camchain", "write_camera_info", "write_opencv_yaml",
+    "Target", "coverage", "parse_target", "projection_sigma", "projection_uncertainty",
 ]

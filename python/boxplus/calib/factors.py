@@ -35,6 +35,11 @@ from boxplus.noise import NoiseModel, noise_model
 __all__ = ["CalibrationFactors"]
 
 
+# accel block size → the C++ gravity model (factors/imu/gravity.h)
+_GRAVITY_MODELS = {1: "scale", 4: "scale_bias", 6: "axis_scale_bias",
+                   9: "axis_scale_bias_misalignment"}
+
+
 def _what(name: str | None, kind: str, number: int) -> str:
     return f"measurement '{name}'" if name else f"{kind} #{number}"
 
@@ -94,7 +99,9 @@ class CalibrationFactors:
         r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z), z (2,) in
         pixels. ``intrinsics`` holds ``camera_model_size(model)`` numbers in the
         model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
-        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]); ``world_from_rig``
+        radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]; rational: + [k1, k2, p1,
+        p2, k3, k4, k5, k6]; kannala_brandt: + [k1, k2, k3, k4]; double_sphere: + [ξ, α];
+        :data:`boxplus.calib.models.CAMERA_LABELS`); ``world_from_rig``
         and ``cam_from_rig`` are SE3 variables. RMS reports group these as
         ``projection[model]``.
         """
@@ -118,8 +125,8 @@ class CalibrationFactors:
         r_j = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world_j) − z_j);
         ``z`` (N, 2) pixels, ``p_in_world`` (N, 3) the same points in the board
         ("world") frame; the noise is that of one corner (2-dim), shared by the
-        points. ``group`` names the measurement group in RMS reports (default
-        ``board[model]``).
+        points. ``model`` is any camera model (:data:`boxplus.calib.models.CAMERA_LABELS`).
+        ``group`` names the measurement group in RMS reports (default ``board[model]``).
         """
         what = _what(name, "board", self._count())
         ids = self._check_ids([intrinsics, world_from_rig, cam_from_rig], what)
@@ -190,25 +197,46 @@ class CalibrationFactors:
         name: str | None = None, group: str = "gravity",
     ) -> int:
         """Gravity read by an accelerometer (factors/imu/gravity.h):
-        r = W (s R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z), m/s².
-        ``accel``: None (rotation only), an Rn(1) [s] or an Rn(4) [s, bx, by, bz]
-        variable."""
+        r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z), in the
+        unit of z (m/s², or raw counts).
+
+        ``imu_from_rig`` is an SO3 variable (only the rotation enters) or an SE3
+        one (its translation is then undetermined by gravity). ``accel`` is the
+        accelerometer model, chosen by its size:
+
+        * None: T = I, b = 0 (rotation only);
+        * Rn(1) [s]: T = s I;  Rn(4) [s, bx, by, bz]: T = s I;
+        * Rn(6) [sx, sy, sz, bx, by, bz]: T = diag(s), per-axis scale and bias;
+        * Rn(9) [sx, sy, sz, bx, by, bz, mxy, mxz, myz]: T = diag(s) U with the
+          misalignment U = [[1, mxy, mxz], [0, 1, myz], [0, 0, 1]].
+
+        For raw counts, s is in counts per unit of ``g_in_world`` and b in counts.
+        """
         what = _what(name, "gravity", self._count())
         ids = self._check_ids([world_from_rig, imu_from_rig] + ([] if accel is None else [accel]),
                               what)
+        if self.codec(world_from_rig).name != "SE3":
+            raise TypeError(f"{what}: world_from_rig must be an SE3 variable, got "
+                            f"{self.codec(world_from_rig).name}")
+        imu_size = {"SO3": 4, "SE3": 7}.get(self.codec(imu_from_rig).name)
+        if imu_size is None:
+            raise TypeError(f"{what}: imu_from_rig must be an SO3 or SE3 variable, got "
+                            f"{self.codec(imu_from_rig).name}")
         if accel is None:
             model = "rotation"
         else:
             n = self.codec(accel).ambient_size
-            named = {1: "scale", 4: "scale_bias"}.get(n)
-            if named is None:
-                raise ValueError(f"{what}: accel must be Rn(1) [s] or Rn(4) [s, b], got {n} numbers")
+            named = _GRAVITY_MODELS.get(n)
+            if named is None or self.codec(accel).name != f"Rn({n})":
+                raise ValueError(f"{what}: accel must be Rn(1) [s], Rn(4) [s, b], Rn(6) [s_xyz, "
+                                 f"b_xyz] or Rn(9) [s_xyz, b_xyz, mxy, mxz, myz], got "
+                                 f"{self.codec(accel).name}")
             model = named
         nm = noise_model(3, sigma, covariance, information, noise, what)
         mid = self._core.add_gravity(model, ids[0], ids[1], ids[2] if accel is not None else -1,
                                      _vector(z, 3, "z", what), nm,
                                      _vector(g_in_world, 3, "g_in_world", what), name or "",
-                                     make_loss(loss, what))
+                                     make_loss(loss, what), imu_size)
         return self._register(mid, group)
 
     # ---- pose ------------------------------------------------------------------------

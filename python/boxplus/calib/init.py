@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus.calib.models import CAMERA_LABELS, camera_matrix, intrinsics_vector, rays
 from boxplus.calib.report import report
 from boxplus.calib.zhang import (
     SOLVED_PARALLEL_PLANES_RAD,
@@ -33,16 +34,7 @@ from boxplus.calib.zhang import (
     init_camera,
     pose_from_homography,
 )
-from boxplus.geometry import (
-    CAMERA_LABELS,
-    absolute_orientation,
-    camera_matrix,
-    model_labels,
-    pixel_rays,
-    project_to_so3,
-    triangulate_midpoint,
-    undistort,
-)
+from boxplus.geometry import absolute_orientation, project_to_so3, triangulate_midpoint
 from boxplus.manifolds import SE3, SO3
 
 __all__ = [
@@ -51,15 +43,6 @@ __all__ = [
     "board_pose", "mean_pose", "relative_pose_init", "rotation_between", "hand_eye_park",
     "robot_world_hand_eye", "triangulate", "marker_hand_eye",
 ]
-
-def intrinsics_vector(K: np.ndarray, model: str, dist: Sequence[float] = ()) -> np.ndarray:
-    """The model's intrinsics vector from a 3×3 K and OpenCV-ordered distortion
-    (k1, k2, p1, p2, k3; missing ones are 0)."""
-    labels = model_labels(model)
-    d = dict(zip(["k1", "k2", "p1", "p2", "k3"], list(dist) + [0.0] * 5))
-    v = {"f": (K[0, 0] + K[1, 1]) / 2, "fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], **d}
-    return np.array([v[n] for n in labels], dtype=float)
-
 
 def check_views(
     image_points: Sequence[np.ndarray], object_points: np.ndarray, image_size: tuple[int, int],
@@ -133,12 +116,16 @@ def check_solved_views(problem: Any, cameras: Sequence[int], world_from_cam: Seq
 
 
 def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarray,
-               dist: Sequence[float] | np.ndarray = (0, 0, 0, 0, 0)) -> SE3:
+               dist: Sequence[float] | np.ndarray = (0, 0, 0, 0, 0), model: str = "opencv5") -> SE3:
     """cam_from_board of a planar board (z = 0) seen by a calibrated camera (PnP by the
-    homography of undistorted normalised points, Zhang eq. 12)."""
+    homography of the viewing rays' normalised points, Zhang eq. 12). ``dist`` is
+    in OpenCV's order for ``model`` (:data:`boxplus.calib.models.OPENCV_DISTORTION`)."""
     obj = np.asarray(object_points, float)
-    u = undistort((np.asarray(image_points, float) - K[:2, 2]) / np.diag(K)[:2], np.asarray(dist, float))
-    return pose_from_homography(np.eye(3), homography(obj[:, :2], u))
+    r = rays(intrinsics_vector(K, model, dist), np.asarray(image_points, float), model)
+    if np.any(r[:, 2] <= 1e-6):
+        raise ValueError("board_pose: a corner's ray is 90° or more off the optical axis; the "
+                         "homography needs points in front of the camera")
+    return pose_from_homography(np.eye(3), homography(obj[:, :2], r[:, :2] / r[:, 2:3]))
 
 
 def mean_pose(poses: Sequence[SE3]) -> SE3:
@@ -215,8 +202,8 @@ def triangulate(z_a: np.ndarray, z_b: np.ndarray, k_a: np.ndarray, k_b: np.ndarr
         raise ValueError(f"triangulate: z_a and z_b must be the same (N, 2), got {za.shape}, {zb.shape}")
     R, t = b_from_a.rot.R, b_from_a.pos
     # camera a at the origin of a; camera b's centre −Rᵀt and rays Rᵀ r_b in a
-    return triangulate_midpoint(np.zeros(3), pixel_rays(k_a, za, model), -R.T @ t,
-                                pixel_rays(k_b, zb, model) @ R, "triangulate")
+    return triangulate_midpoint(np.zeros(3), rays(k_a, za, model), -R.T @ t,
+                                rays(k_b, zb, model) @ R, "triangulate")
 
 
 def marker_hand_eye(p_in_rig: Sequence[np.ndarray], base_from_hand: Sequence[Sequence[SE3]]

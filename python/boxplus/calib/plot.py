@@ -1,88 +1,227 @@
-"""Pictures of a calibration, saved as PNG (matplotlib, Agg backend):
-reprojection errors per image, and the rig in 3-D (sensor frames, board
-poses, IMU, hand markers)."""
+"""Pictures of a calibration (matplotlib): reprojection errors per image and
+as vectors, the coverage of the image by the corners, the projection
+uncertainty as a heat map, and the rig in 3-D (sensor frames, every board
+pose as a frame, IMU, hand markers).
+
+Every function takes an optional ``ax`` (a matplotlib Axes; 3-D for
+:func:`plot_rig`) to draw into, else makes its own Figure; it returns the
+Figure, and saves it as a PNG when given a ``path``. Figures are made with
+``matplotlib.figure.Figure``, not pyplot: nothing here selects or switches
+the matplotlib backend, so notebooks and GUIs keep theirs.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 
 from boxplus.manifolds import SE3
 
-__all__ = ["plot_reprojection_errors", "plot_rig"]
+__all__ = ["plot_coverage", "plot_error_vectors", "plot_projection_uncertainty",
+           "plot_reprojection_errors", "plot_rig", "plot_rms_per_image"]
 
 
-def _plt():
-    import matplotlib
+def _figure(ax: Any, figsize: tuple[float, float], projection: str | None = None) -> tuple[Any, Any]:
+    if ax is not None:
+        return ax.figure, ax
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    fig = Figure(figsize=figsize)
+    return fig, fig.add_subplot(projection=projection)
 
 
-def plot_reprojection_errors(o, path: str, mids: Mapping[str, Sequence[int]] | None = None,
-                             title: str = "reprojection errors") -> None:
-    """Per image (one built-in board/marker measurement each) the RMS error, and
-    all error vectors as a scatter, one colour per group.
+def _finish(fig: Any, path: Any, title: str | None = None) -> Any:
+    if title:
+        fig.suptitle(title)
+    if path is not None:
+        fig.tight_layout()
+        fig.savefig(path, dpi=100)
+    return fig
 
-    ``mids``: {label: measurement ids}; default every built-in factor by group.
-    """
-    plt = _plt()
-    if mids is None:
-        groups: dict[str, list[int]] = {}
-        for mid in o.builtin_measurements():
-            if o.measurement_group(mid) != "prior":
-                groups.setdefault(o.measurement_group(mid), []).append(mid)
-        mids = groups
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
+
+def _groups(o, mids: Mapping[str, Sequence[int]] | None) -> Mapping[str, Sequence[int]]:
+    if mids is not None:
+        return mids
+    groups: dict[str, list[int]] = {}
+    for mid in o.builtin_measurements():
+        if o.measurement_group(mid) != "prior":
+            groups.setdefault(o.measurement_group(mid), []).append(mid)
+    return groups
+
+
+def _rms(e: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.sum(e**2, axis=1))))
+
+
+def plot_rms_per_image(o, mids: Mapping[str, Sequence[int]] | None = None,
+                       names: Mapping[str, Sequence[str]] | None = None, ax: Any = None,
+                       path: Any = None, title: str | None = None) -> Any:
+    """Bar chart of the RMS reprojection error (px) of each image (one built-in
+    board/marker measurement each), one colour per group; ``names`` {group: a
+    label per measurement} (e.g. file names) label the bars."""
+    fig, ax = _figure(ax, (max(6.0, 0.25 * sum(len(v) for v in _groups(o, mids).values())), 4.5))
     x0 = 0
-    for label, ids in mids.items():
-        E = [o.measurement_errors(m) for m in ids]
-        per = [np.sqrt(np.mean(np.sum(e**2, axis=1))) for e in E]
-        ax1.bar(np.arange(x0, x0 + len(per)), per, label=label)
+    ticks, labels = [], []
+    for label, ids in _groups(o, mids).items():
+        per = [_rms(o.measurement_errors(m)) for m in ids]
+        xs = np.arange(x0, x0 + len(per))
+        ax.bar(xs, per, label=label)
+        ticks += list(xs)
+        labels += list(names[label]) if names and label in names else [str(i) for i in range(len(per))]
         x0 += len(per) + 1
-        allE = np.concatenate(E)
-        ax2.scatter(allE[:, 0], allE[:, 1], s=4, alpha=0.6, label=label)
-    ax1.set_xlabel("image (measurement)")
-    ax1.set_ylabel("RMS error")
-    ax1.legend()
-    ax2.set_aspect("equal")
-    ax2.set_xlabel("error u")
-    ax2.set_ylabel("error v")
-    ax2.axhline(0, color="k", lw=0.5)
-    ax2.axvline(0, color="k", lw=0.5)
-    fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    ax.set_xticks(ticks)
+    ax.set_xticklabels(labels, rotation=90, fontsize=7)
+    ax.set_xlabel("image")
+    ax.set_ylabel("RMS reprojection error (px)")
+    ax.legend()
+    return _finish(fig, path, title)
 
 
-def _axes(ax, pose, length: float, label: str) -> None:
+def plot_error_vectors(o, mids: Mapping[str, Sequence[int]] | None = None, ax: Any = None,
+                       path: Any = None, title: str | None = None) -> Any:
+    """All reprojection error vectors (px) as a scatter, one colour per group."""
+    fig, ax = _figure(ax, (5.5, 5.0))
+    for label, ids in _groups(o, mids).items():
+        E = np.concatenate([o.measurement_errors(m) for m in ids])
+        ax.scatter(E[:, 0], E[:, 1], s=4, alpha=0.6, label=label)
+    ax.set_aspect("equal")
+    ax.set_xlabel("error u (px)")
+    ax.set_ylabel("error v (px)")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.legend()
+    return _finish(fig, path, title)
+
+
+def plot_reprojection_errors(o, path: Any = None, mids: Mapping[str, Sequence[int]] | None = None,
+                             title: str = "reprojection errors", ax: Any = None,
+                             names: Mapping[str, Sequence[str]] | None = None) -> Any:
+    """:func:`plot_rms_per_image` and :func:`plot_error_vectors` side by side; ``ax``: a
+    pair of Axes, or None for a new Figure."""
+    if ax is None:
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(13, 4.8))
+        ax = fig.subplots(1, 2, gridspec_kw={"width_ratios": [2, 1]})
+    else:
+        fig = ax[0].figure
+    plot_rms_per_image(o, mids, names, ax=ax[0])
+    plot_error_vectors(o, mids, ax=ax[1])
+    return _finish(fig, path, title)
+
+
+def plot_residual_field(cal: Any, camera: str, ax: Any = None, path: Any = None,
+                        scale: float = 20.0, title: str | None = None) -> Any:
+    """The reprojection error vectors of ``camera`` (a Calibration) drawn at their
+    corners over the image, magnified ``scale`` times."""
+    fig, ax = _figure(ax, (7, 5.5))
+    Z, E = [], []
+    for m in cal.view_ids[camera]:
+        E.append(cal.problem.measurement_errors(m))
+    for ob in cal.observations:
+        if ob.camera == camera:
+            Z.append(ob.z)
+    z, e = np.concatenate(Z), np.concatenate(E)
+    ax.quiver(z[:, 0], z[:, 1], e[:, 0], e[:, 1], angles="xy", scale_units="xy", scale=1 / scale,
+              width=0.002)
+    w, h = cal.image_size[camera]
+    ax.set_xlim(0, w)
+    ax.set_ylim(h, 0)
+    ax.set_aspect("equal")
+    ax.set_xlabel("u (px)")
+    ax.set_ylabel("v (px)")
+    ax.set_title(title or f"{camera}: reprojection errors ×{scale:g} (px)")
+    return _finish(fig, path)
+
+
+def plot_coverage(cal: Any, camera: str, ax: Any = None, path: Any = None,
+                  title: str | None = None) -> Any:
+    """The corners ``camera`` used, over its image, one colour per view, with each
+    view's outline: where the image is empty the lens model is extrapolated."""
+    fig, ax = _figure(ax, (7, 5.5))
+    w, h = cal.image_size[camera]
+    for ob in cal.observations:
+        if ob.camera != camera:
+            continue
+        ax.scatter(ob.z[:, 0], ob.z[:, 1], s=3)
+    ax.add_patch(_rect(w, h))
+    ax.set_xlim(-0.02 * w, 1.02 * w)
+    ax.set_ylim(1.02 * h, -0.02 * h)
+    ax.set_aspect("equal")
+    ax.set_xlabel("u (px)")
+    ax.set_ylabel("v (px)")
+    n = sum(len(ob.z) for ob in cal.observations if ob.camera == camera)
+    ax.set_title(title or f"{camera}: coverage ({n} corners)")
+    return _finish(fig, path)
+
+
+def _rect(w: float, h: float) -> Any:
+    from matplotlib.patches import Rectangle
+
+    return Rectangle((0, 0), w, h, fill=False, color="k", lw=0.8)
+
+
+def plot_projection_uncertainty(unc: Any, ax: Any = None, path: Any = None,
+                                title: str | None = None) -> Any:
+    """Heat map (with contours) of a :class:`boxplus.calib.uncertainty.ProjectionUncertainty`:
+    σ of the projection in px over the image."""
+    from matplotlib.colors import LogNorm
+
+    fig, ax = _figure(ax, (7, 5.5))
+    du = (unc.u[1] - unc.u[0]) / 2 if len(unc.u) > 1 else 0.5
+    dv = (unc.v[1] - unc.v[0]) / 2 if len(unc.v) > 1 else 0.5
+    # a log scale: σ grows by orders of magnitude where no corner was seen
+    s = unc.sigma[np.isfinite(unc.sigma) & (unc.sigma > 0)]
+    norm = LogNorm(vmin=s.min(), vmax=s.max()) if s.size and s.max() > s.min() else None
+    im = ax.imshow(unc.sigma, extent=(unc.u[0] - du, unc.u[-1] + du, unc.v[-1] + dv, unc.v[0] - dv),
+                   cmap="viridis", aspect="equal", norm=norm)
+    if norm is not None and len(unc.u) > 1 and len(unc.v) > 1:
+        levels = [x for x in (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100)
+                  if s.min() < x < s.max()]
+        if levels:
+            cs = ax.contour(unc.u, unc.v, unc.sigma, levels=levels, colors="w", linewidths=0.6)
+            ax.clabel(cs, fontsize=7)
+    fig.colorbar(im, ax=ax, label="σ of the projection (px)")
+    ax.set_xlabel("u (px)")
+    ax.set_ylabel("v (px)")
+    ax.set_title(title or f"{unc.camera}: projection σ at {unc.distance:g} "
+                 f"({'intrinsics + poses' if unc.poses else 'intrinsics'})")
+    return _finish(fig, path)
+
+
+def _axes(ax, pose, length: float, label: str, lw: float = 1.5) -> None:
     R, t = pose.rot.R, pose.pos
     for k, c in enumerate("rgb"):
         e = t + length * R[:, k]
-        ax.plot([t[0], e[0]], [t[1], e[1]], [t[2], e[2]], c)
-    ax.text(*t, label, fontsize=8)
+        ax.plot([t[0], e[0]], [t[1], e[1]], [t[2], e[2]], c, lw=lw)
+    if label:
+        ax.text(*t, label, fontsize=8)
 
 
-def plot_rig(path: str, frames: Mapping[str, SE3], boards: Sequence[tuple[SE3, np.ndarray]] = (),
+def plot_rig(path: Any = None, frames: Mapping[str, SE3] | None = None,
+             boards: Sequence[tuple[SE3, np.ndarray]] = (),
              points: dict[str, np.ndarray] | None = None, length: float = 1.0,
-             title: str = "rig") -> None:
+             title: str = "rig", ax: Any = None,
+             board_names: Sequence[str] | None = None) -> Any:
     """The rig in one reference frame: ``frames`` {name: ref_from_frame (SE3)} drawn as
-    axes (x red, y green, z blue), ``boards`` [(ref_from_board, p_in_board (N, 3))]
-    as point grids, ``points`` {name: (N, 3) in ref} (e.g. hand markers)."""
-    plt = _plt()
-    fig = plt.figure(figsize=(7, 6))
-    ax = fig.add_subplot(projection="3d")
+    axes (x red, y green, z blue); ``boards`` [(ref_from_board, p_in_board (N, 3))]
+    each as its own frame (axes at the board's origin, half length, labelled by
+    ``board_names`` or its index) with its outline; ``points`` {name: (N, 3) in
+    ref} (e.g. hand markers)."""
+    fig, ax = _figure(ax, (7, 6), projection="3d")
     allp = []
-    for name, pose in frames.items():
+    for name, pose in (frames or {}).items():
         _axes(ax, pose, length, name)
         allp.append(pose.pos[None])
-    for pose, p in boards:
+    for i, (pose, p) in enumerate(boards):
         q = p @ pose.rot.R.T + pose.pos
-        ax.scatter(q[:, 0], q[:, 1], q[:, 2], s=2, c="gray")
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        outline = np.array([[lo[0], lo[1], 0], [hi[0], lo[1], 0], [hi[0], hi[1], 0],
+                            [lo[0], hi[1], 0], [lo[0], lo[1], 0]]) @ pose.rot.R.T + pose.pos
+        ax.plot(outline[:, 0], outline[:, 1], outline[:, 2], color="0.5", lw=0.8)
+        _axes(ax, pose, length / 2, board_names[i] if board_names else str(i), lw=0.8)
         allp.append(q)
     for name, p in (points or {}).items():
         p = np.atleast_2d(p)
@@ -90,12 +229,11 @@ def plot_rig(path: str, frames: Mapping[str, SE3], boards: Sequence[tuple[SE3, n
         allp.append(p)
     if points:
         ax.legend()
-    P = np.concatenate(allp)
-    c, r = P.mean(axis=0), max(np.ptp(P, axis=0).max() / 2, length)
-    ax.set_xlim(c[0] - r, c[0] + r)
-    ax.set_ylim(c[1] - r, c[1] + r)
-    ax.set_zlim(c[2] - r, c[2] + r)
+    if allp:
+        P = np.concatenate(allp)
+        c, r = P.mean(axis=0), max(np.ptp(P, axis=0).max() / 2, length)
+        ax.set_xlim(c[0] - r, c[0] + r)
+        ax.set_ylim(c[1] - r, c[1] + r)
+        ax.set_zlim(c[2] - r, c[2] + r)
     ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    return _finish(fig, path)

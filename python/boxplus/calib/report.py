@@ -13,6 +13,12 @@ covariance is (JᵀJ)⁻¹ (the pseudo-inverse over the determined directions;
 undetermined parameters get an infinite σ), optionally rescaled by the
 a-posteriori variance factor σ̂² = ‖r‖² / (m − n) when the given Σ is only a
 guess (``rescale=True``, what OpenCV reports).
+
+σ convention (every report of :mod:`boxplus.calib`): σ is computed from the
+noise Σ the measurements were given, not rescaled (``rescale=False``, the
+default of :func:`report`, :meth:`Calibration.report` and the command line);
+the printed report shows both figures side by side — σ and σ·σ̂ — and
+:meth:`CalibrationReport.std_other` returns the other one.
 """
 
 from __future__ import annotations
@@ -21,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["CalibrationReport", "Parameter", "report"]
+__all__ = ["CalibrationReport", "Parameter", "determined_covariance", "report"]
 
 
 @dataclass
@@ -65,13 +71,24 @@ class CalibrationReport:
             out.append(f"badly conditioned (singular value {s:.1e} of the largest): " + ", ".join(names))
         return out
 
+    def std_other(self, variable: str) -> np.ndarray:
+        """The σ of the other convention: rescaled by σ̂ when this report is not, and
+        the reverse (see :func:`report`)."""
+        f = 1 / self.sigma_factor if self.rescaled else self.sigma_factor
+        return self.std(variable) * f
+
     def __str__(self) -> str:
         lines = ["calibration report", "  RMS per measurement group:"]
         for g, r in self.rms.items():
             lines.append(f"    {g:24s} {r:.5f}  ({self.count[g]} errors)")
-        lines.append(f"  parameters (± 1σ{f', rescaled by σ̂ = {self.sigma_factor:.4f}' if self.rescaled else ''}):")
+        given, scaled = ("σ·σ̂", "σ") if self.rescaled else ("σ", "σ·σ̂")
+        f = 1 / self.sigma_factor if self.rescaled else self.sigma_factor
+        lines.append(f"  parameters: value ± 1σ from the given noise Σ, and σ·σ̂ rescaled by the "
+                     f"fit's residual σ̂ = {self.sigma_factor:.4f} (OpenCV's); this report's std() "
+                     f"is the {'rescaled' if self.rescaled else 'unrescaled'} one")
+        lines.append(f"    {'parameter':32s} {'value':>14s}   {given:>12s} {scaled:>12s}")
         for p in self.parameters:
-            lines.append(f"    {p.name:32s} {p.value:+14.6f} ± {p.std:.6f}")
+            lines.append(f"    {p.name:32s} {p.value:+14.6f} ± {p.std:12.6f} {p.std * f:12.6f}")
         lines.append(f"  condition number (scaled Jacobian): {self.condition:.3g}")
         for w in self.warnings:
             lines.append("  WARNING: " + w)
@@ -84,9 +101,58 @@ def _display_values(o, vid: int) -> np.ndarray:
     return o.codec(vid).display(o.value(vid))
 
 
+def _scaled_svd(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(column norms, observed-column mask, s, Vt, indices of the observed columns)
+    of the column-scaled Jacobian J D⁻¹ = U S Vᵀ (unobserved = zero columns)."""
+    norms = np.linalg.norm(J, axis=0)
+    observed = norms > 0
+    idx = np.flatnonzero(observed)
+    if idx.size == 0:
+        return norms, observed, np.zeros(0), np.zeros((0, 0)), idx
+    _, s, Vt = np.linalg.svd(J[:, observed] / norms[observed], full_matrices=False)
+    return norms, observed, s, Vt, idx
+
+
+def determined_covariance(J: np.ndarray, rank_tol: float = 1e-9,
+                          null_tol: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+    """(covariance, undetermined mask) over the columns of a whitened Jacobian J.
+
+    The directions the data does not determine are the right singular vectors
+    of J D⁻¹ with s < ``rank_tol``·s_max, plus the zero columns. A column with
+    an entry above ``null_tol`` in such a vector is undetermined (NaN rows,
+    ∞ on the diagonal). Every other column has zero weight in the null space,
+    so its block of the pseudo-inverse (JᵀJ)⁺ is its covariance whatever gauge
+    fixes the undetermined ones: determined parameters keep their σ when an
+    unrelated parameter (e.g. the translation of an IMU seen only through
+    gravity) is undetermined.
+    """
+    n = J.shape[1]
+    norms, observed, s, Vt, idx = _scaled_svd(J)
+    cov = np.full((n, n), np.nan)
+    undetermined = ~observed
+    if s.size:
+        good = s >= rank_tol * s[0]
+        null = Vt[~good]
+        if null.size:
+            undetermined[idx[np.any(np.abs(null) > null_tol, axis=0)]] = True
+        Cs = (Vt[good].T / s[good] ** 2) @ Vt[good]
+        cov[np.ix_(idx, idx)] = Cs / np.outer(norms[idx], norms[idx])
+    cov[undetermined, :] = np.nan
+    cov[:, undetermined] = np.nan
+    cov[undetermined, undetermined] = np.inf
+    return cov, undetermined
+
+
 def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1e-5,
            name_tol: float = 0.3) -> CalibrationReport:
-    """Builds the report of a solved :class:`~boxplus.OptimizationProblem`."""
+    """Builds the report of a solved :class:`~boxplus.OptimizationProblem`.
+
+    σ convention: ``rescale=False`` (the default, here and in
+    :meth:`boxplus.calib.Calibration.report`) gives σ from the noise the
+    measurements were given (Σ); ``rescale=True`` multiplies them by σ̂, the
+    fit's residual scale (OpenCV's convention). The report prints both
+    (``sigma_factor`` is σ̂), so either figure is at hand.
+    """
     jac = o.jacobian()
     J = np.asarray(jac["jacobian"])
     r = np.asarray(jac["residuals"])
@@ -99,37 +165,25 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
             columns.append((vid, t))
             names.append(f"{vname}.{lab}")
     n = J.shape[1]
-    norms = np.linalg.norm(J, axis=0)
-    unobserved = norms == 0
-    Js = J[:, ~unobserved] / norms[~unobserved]
+    norms, observed, s, Vt, idx = _scaled_svd(J)
     undetermined: list[tuple[float, list[str]]] = []
     ill: list[tuple[float, list[str]]] = []
-    if unobserved.any():
-        undetermined.append((0.0, [names[i] for i in np.flatnonzero(unobserved)]))
+    if (~observed).any():
+        undetermined.append((0.0, [names[i] for i in np.flatnonzero(~observed)]))
     cov = np.full((n, n), np.nan)
     cond = np.inf
-    if Js.shape[1]:
-        _, s, Vt = np.linalg.svd(Js, full_matrices=False)
+    if s.size:
         rel = s / s[0]
         cond = s[0] / s[-1] if s[-1] > 0 else np.inf
-        idx = np.flatnonzero(~unobserved)
-        weak_cols = set(np.flatnonzero(unobserved))
         for k in np.flatnonzero(rel < cond_tol):
             v = Vt[k] / np.abs(Vt[k]).max()
             involved = idx[np.abs(v) >= name_tol]
             entry = (float(rel[k]), [names[i] for i in involved])
             if rel[k] < rank_tol:
                 undetermined.append(entry)
-                weak_cols.update(involved.tolist())
             else:
                 ill.append(entry)
-        good = rel >= rank_tol
-        Cs = (Vt[good].T / s[good] ** 2) @ Vt[good]
-        cov = np.full((n, n), np.nan)
-        cov[np.ix_(idx, idx)] = Cs / np.outer(norms[idx], norms[idx])
-        for c in weak_cols:
-            cov[c, :] = cov[:, c] = np.nan
-            cov[c, c] = np.inf
+        cov, _ = determined_covariance(J, rank_tol)
     dof = max(J.shape[0] - n, 1)
     sigma_factor = float(np.sqrt(r @ r / dof))
     if rescale:

@@ -11,7 +11,7 @@ k1 k2 p1 p2 k3; "radial2" k1 k2; "radial1" k1).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -26,43 +26,215 @@ from boxplus.calib.init import (
     check_views,
     init_camera,
     intrinsics_vector,
+    mean_pose,
     relative_pose_init,
 )
+from boxplus.calib.io import Camera, to_opencv
+from boxplus.calib.models import model_labels
 from boxplus.manifolds import SE3, Rn
 
-__all__ = ["add_camera", "Calibration", "calibrate_mono", "calibrate_stereo", "detect_corners"]
+__all__ = ["add_camera", "Calibration", "DroppedCorner", "calibrate_mono", "calibrate_rig",
+           "calibrate_stereo", "detect_corners"]
+
+# Default k of robust=True: a corner is dropped when its error exceeds k σ̂
+# (σ̂ per image coordinate, from the median absolute error). For Gaussian
+# noise ‖e‖/σ is Rayleigh, P(‖e‖ > 5σ) = exp(−12.5) ≈ 4e-6: good corners stay.
+ROBUST_K = 5.0
 
 
 def add_camera(o: _problem.OptimizationProblem, name: str, K: np.ndarray, model: str = "opencv5",
                dist: Sequence[float] = (), fixed: bool = False) -> int:
-    """Adds the intrinsics of a camera (an Rn of the model's size, labelled fx, fy, ...)."""
+    """Adds the intrinsics of a camera (an Rn of the model's size, labelled fx, fy, ...);
+    ``dist`` in OpenCV's order for the model (missing ones 0: Zhang's start)."""
     k = intrinsics_vector(np.asarray(K, float), model, dist)
     return o.add_random_var(Rn(k), fixed=fixed, name=name, labels=CAMERA_LABELS[model])
 
 
 @dataclass
+class DroppedCorner:
+    """A corner the robust option removed: its camera, view (index and name),
+    index in the target, and its error (px) when it was dropped."""
+
+    camera: str
+    view: int
+    view_name: str
+    corner: int
+    error_px: float
+
+
+@dataclass
+class _Obs:
+    """The detections of one camera in one view: pixels z (N, 2), the target points
+    p_in_board (N, 3) and their indices in the target (for reports)."""
+
+    camera: str
+    view: int
+    z: np.ndarray
+    obj: np.ndarray
+    corners: np.ndarray
+
+
+@dataclass
 class Calibration:
-    """A solved calibration: the problem, ids of its variables, the solve result."""
+    """A solved calibration: the problem, ids of its variables, the solve result.
+
+    ``ids`` names the variables: each camera's intrinsics by the camera's name,
+    ``<cam>_from_<reference>`` for the other cameras' poses; ``view_ids``
+    {camera: board measurement ids}, ``view_index`` {camera: the view (image)
+    index of each}, ``view_names`` a name per view (e.g. file names),
+    ``world_from_ref`` the pose variable of each view (None when no camera
+    saw it), ``dropped`` the corners the robust option removed.
+    """
 
     problem: _problem.OptimizationProblem
     model: str
     ids: dict[str, int]
     view_ids: dict[str, list[int]] = field(default_factory=dict)
     result: SolveSummary | None = None
+    image_size: dict[str, tuple[int, int]] = field(default_factory=dict)
+    models: dict[str, str] = field(default_factory=dict)
+    reference: str = ""
+    view_index: dict[str, list[int]] = field(default_factory=dict)
+    view_names: list[str] = field(default_factory=list)
+    world_from_ref: list[int | None] = field(default_factory=list)
+    dropped: list[DroppedCorner] = field(default_factory=list)
+    observations: list[_Obs] = field(default_factory=list, repr=False)
 
     def camera(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """(K, OpenCV distortion) of a camera."""
-        return camera_matrix(self.problem[self.ids[name]].vec, self.model)
+        """(K, distortion in OpenCV's order for the camera's model) of a camera."""
+        return camera_matrix(self.problem[self.ids[name]].vec, self.models.get(name, self.model))
 
     def rms(self) -> float:
         """OpenCV's RMS: sqrt(Σ‖2-D error‖² / number of points), over all boards."""
         E = np.concatenate([self.problem.measurement_errors(m) for ms in self.view_ids.values() for m in ms])
         return float(np.sqrt(np.mean(np.sum(E**2, axis=1))))
 
-    def report(self, rescale: bool = True):
+    def report(self, rescale: bool = False):
+        """The :func:`boxplus.calib.report` of the solved problem; σ from the given
+        corner noise unless ``rescale`` (the printed report shows both)."""
         from boxplus.calib.report import report
 
         return report(self.problem, rescale=rescale)
+
+    def cameras(self) -> list[Camera]:
+        """The rig as :class:`boxplus.calib.io.Camera` values (reference first), for the
+        file writers of :mod:`boxplus.calib.io`."""
+        out = []
+        for name in self.view_ids:
+            pose = SE3() if name == self.reference else self.problem[self.ids[f"{name}_from_{self.reference}"]]
+            out.append(Camera(name, self.models.get(name, self.model), self.problem[self.ids[name]].vec,
+                              self.image_size[name], pose))
+        return out
+
+    def to_opencv(self) -> dict[str, Any]:
+        """K, distortion, R, T in OpenCV's layout (:func:`boxplus.calib.io.to_opencv`); for a
+        stereo pair ready for ``cv2.stereoRectify(K1, D1, K2, D2, image_size, R, T)``."""
+        return to_opencv(self.cameras())
+
+
+def _warm(name: str, value: Any, prev: dict[str, Any] | None) -> Any:
+    return prev.get(name, value) if prev else value
+
+
+def _assemble(obs: Sequence[_Obs], cams: Sequence[str], models: dict[str, str],
+              k0: dict[str, np.ndarray], cam_from_ref0: dict[str, SE3],
+              world_from_ref0: Sequence[SE3 | None], sizes: dict[str, tuple[int, int]],
+              sigma: Any, covariance: Any, fixed: Sequence[str] = (),
+              view_prefix: str | None = None, prev: dict[str, Any] | None = None) -> Calibration:
+    """The board problem of a rig: intrinsics per camera, the reference camera's
+    pose per view (world = the board), cam_from_ref per other camera; values
+    from ``prev`` {variable name: value} where given (a re-solve)."""
+    ref = cams[0]
+    o = _problem.OptimizationProblem()
+    ids: dict[str, int] = {}
+    for c in cams:
+        ids[c] = o.add_random_var(_warm(c, Rn(k0[c]), prev), fixed=c in fixed, name=c,
+                                  labels=CAMERA_LABELS[models[c]])
+    ident = o.add_random_var(SE3(), fixed=True, name="identity")
+    rig = {ref: ident}
+    for c in cams[1:]:
+        n = f"{c}_from_{ref}"
+        ids[n] = rig[c] = o.add_random_var(_warm(n, cam_from_ref0[c], prev), name=n)
+    prefix = view_prefix or f"world_from_{ref}"
+    views: list[int | None] = []
+    observed = {ob.view for ob in obs}
+    for i, pose in enumerate(world_from_ref0):
+        n = f"{prefix}_{i}"
+        seen = pose is not None and i in observed
+        views.append(o.add_random_var(_warm(n, pose, prev), name=n) if seen else None)
+    cal = Calibration(o, models[ref], ids, {c: [] for c in cams}, image_size=dict(sizes),
+                      models=dict(models), reference=ref, view_index={c: [] for c in cams},
+                      world_from_ref=views, observations=list(obs))
+    for ob in obs:
+        view = views[ob.view]
+        assert view is not None  # every observed view has a pose
+        cal.view_ids[ob.camera].append(o.add_board(
+            ob.z, ids[ob.camera], view, rig[ob.camera], ob.obj, sigma=sigma, covariance=covariance,
+            model=models[ob.camera], group=ob.camera))
+        cal.view_index[ob.camera].append(ob.view)
+    return cal
+
+
+def _values(cal: Calibration) -> dict[str, Any]:
+    o = cal.problem
+    return {o.variable_name(v): o[v] for v in range(o.num_variables)}
+
+
+def _outliers(cal: Calibration, k: float) -> list[tuple[int, np.ndarray, np.ndarray]]:
+    """[(observation index, keep mask, error norms)] of the observations with a corner
+    whose error exceeds k σ̂ (σ̂ = 1.4826 · median |error coordinate|, over all corners)."""
+    errs = [cal.problem.measurement_errors(m) for c in cal.view_ids for m in cal.view_ids[c]]
+    order = [(c, j) for c in cal.view_ids for j in range(len(cal.view_ids[c]))]
+    allE = np.concatenate(errs)
+    s = 1.4826 * float(np.median(np.abs(allE)))
+    if s <= 0:
+        return []
+    by_obs: dict[tuple[str, int], int] = {}
+    counters: dict[str, int] = {}
+    for i, ob in enumerate(cal.observations):
+        j = counters.get(ob.camera, 0)
+        counters[ob.camera] = j + 1
+        by_obs[ob.camera, j] = i
+    out = []
+    for (c, j), e in zip(order, errs):
+        norm = np.linalg.norm(e, axis=1)
+        bad = norm > k * s
+        if bad.any():
+            out.append((by_obs[c, j], ~bad, norm))
+    return out
+
+
+def _solve(cal: Calibration, robust: float | bool | None, rebuild, max_rounds: int = 10) -> Calibration:
+    """Solves; with ``robust`` (k, or True for :data:`ROBUST_K`) drops the corners beyond
+    k σ̂ and re-solves from the current values until none is beyond (at most
+    ``max_rounds`` times); views left with fewer than 4 corners are dropped whole."""
+    cal.result = cal.problem.solve()
+    if not robust:
+        return cal
+    k = ROBUST_K if robust is True else float(robust)
+    if not k > 0:
+        raise ValueError(f"robust: k must be > 0, got {robust}")
+    dropped: list[DroppedCorner] = []
+    for _ in range(max_rounds):
+        bad = _outliers(cal, k)
+        if not bad:
+            break
+        obs = list(cal.observations)
+        for i, keep, norm in bad:
+            ob = obs[i]
+            if keep.sum() < 4:
+                keep = np.zeros_like(keep)
+            vname = cal.view_names[ob.view] if ob.view < len(cal.view_names) else str(ob.view)
+            dropped += [DroppedCorner(ob.camera, ob.view, vname, int(ob.corners[j]), float(norm[j]))
+                        for j in np.flatnonzero(~keep)]
+            obs[i] = _Obs(ob.camera, ob.view, ob.z[keep], ob.obj[keep], ob.corners[keep])
+        obs = [ob for ob in obs if len(ob.z)]
+        names = cal.view_names
+        cal = rebuild(obs, _values(cal))
+        cal.view_names = names
+        cal.result = cal.problem.solve()
+    cal.dropped = dropped
+    return cal
 
 
 def _camera_init(image_points, object_points, image_size, camera):
@@ -71,29 +243,45 @@ def _camera_init(image_points, object_points, image_size, camera):
     return pts, K, cam_from_board
 
 
+def _names(view_names: Sequence[str] | None, n: int) -> list[str]:
+    if view_names is None:
+        return [str(i) for i in range(n)]
+    if len(view_names) != n:
+        raise ValueError(f"view_names: {len(view_names)} names for {n} views")
+    return [str(v) for v in view_names]
+
+
 def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray,
                    image_size: tuple[int, int], model: str = "opencv5", sigma: Any = None,
-                   name: str = "camera", solve: bool = True, covariance: Any = None) -> Calibration:
+                   name: str = "camera", solve: bool = True, covariance: Any = None,
+                   robust: float | bool | None = None,
+                   view_names: Sequence[str] | None = None) -> Calibration:
     """One camera from views of a planar board (Zhang's initial values, then ML).
 
     The corner noise is ``sigma`` (σ or [σu, σv], pixels) or a 2×2 ``covariance``
-    (none: σ = 1). Raises ValueError naming the camera and view for bad
-    detections, and when the board planes are parallel in every view (the
-    intrinsics are then undetermined); warns when the solved focal length is
-    barely determined (:func:`boxplus.calib.init.check_solved_views`)."""
+    (none: σ = 1). ``model`` is any of :data:`boxplus.calib.models.CAMERA_LABELS`
+    (the wide-angle ones start from the pinhole K of Zhang's closed form).
+    ``robust`` (k, or True for k = :data:`ROBUST_K`) drops the corners whose
+    error exceeds k σ̂ and re-solves; ``cal.dropped`` lists them. Raises
+    ValueError naming the camera and view for bad detections, and when the
+    board planes are parallel in every view (the intrinsics are then
+    undetermined); warns when the solved focal length is barely determined
+    (:func:`boxplus.calib.init.check_solved_views`)."""
     pts, K, cam_from_board = _camera_init(image_points, object_points, image_size, name)
-    o = _problem.OptimizationProblem()
-    cam = add_camera(o, name, K, model)
-    ident = o.add_random_var(SE3(), fixed=True, name="identity")
-    mids, views = [], []
-    for i, (p, pose) in enumerate(zip(pts, cam_from_board)):
-        views.append(o.add_random_var(pose.inverse(), name=f"world_from_{name}_{i}"))
-        mids.append(o.add_board(p, cam, views[-1], ident, object_points, sigma=sigma,
-                                covariance=covariance, model=model, group=name))
-    cal = Calibration(o, model, {name: cam}, {name: mids})
+    obj = np.asarray(object_points, float)
+    obs = [_Obs(name, i, p, obj, np.arange(len(obj))) for i, p in enumerate(pts)]
+
+    def build(obs, prev=None):
+        return _assemble(obs, [name], {name: model}, {name: intrinsics_vector(K, model)}, {},
+                         [p.inverse() for p in cam_from_board], {name: (int(image_size[0]), int(image_size[1]))},
+                         sigma, covariance, view_prefix=f"world_from_{name}", prev=prev)
+
+    cal = build(obs)
+    cal.view_names = _names(view_names, len(pts))
     if solve:
-        cal.result = o.solve()
-        check_solved_views(o, [cam], views, name)
+        cal = _solve(cal, robust, build)
+        check_solved_views(cal.problem, [cal.ids[name]], [v for v in cal.world_from_ref if v is not None],
+                           name)
     return cal
 
 
@@ -101,43 +289,167 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
                      object_points: np.ndarray, image_size: tuple[int, int],
                      model: str = "opencv5", sigma: Any = None,
                      fixed_intrinsics: tuple[np.ndarray, np.ndarray] | None = None,
-                     solve: bool = True, covariance: Any = None) -> Calibration:
+                     solve: bool = True, covariance: Any = None,
+                     robust: float | bool | None = None,
+                     view_names: Sequence[str] | None = None) -> Calibration:
     """A stereo pair seeing the same boards: intrinsics of both cameras, right_from_left
     and one world_from_left per view, jointly (or with ``fixed_intrinsics`` =
     (k_left, k_right) model vectors held constant, like OpenCV's
     CALIB_FIX_INTRINSIC). Refuses parallel boards and warns of a barely determined
-    focal length like :func:`calibrate_mono`."""
+    focal length like :func:`calibrate_mono`; ``robust`` as there."""
     if len(left_points) != len(right_points):
         raise ValueError(f"stereo: {len(left_points)} left and {len(right_points)} right views")
     pl, Kl, left_from_board = _camera_init(left_points, object_points, image_size, "left")
     pr, Kr, right_from_board = _camera_init(right_points, object_points, image_size, "right")
-    o = _problem.OptimizationProblem()
+    obj = np.asarray(object_points, float)
+    size = (int(image_size[0]), int(image_size[1]))
     if fixed_intrinsics is None:
-        left = add_camera(o, "left", Kl, model)
-        right = add_camera(o, "right", Kr, model)
+        k0 = {"left": intrinsics_vector(Kl, model), "right": intrinsics_vector(Kr, model)}
     else:
-        left = o.add_random_var(Rn(np.asarray(fixed_intrinsics[0], float)), fixed=True,
-                                name="left", labels=CAMERA_LABELS[model])
-        right = o.add_random_var(Rn(np.asarray(fixed_intrinsics[1], float)), fixed=True,
-                                 name="right", labels=CAMERA_LABELS[model])
-    ident = o.add_random_var(SE3(), fixed=True, name="identity")
-    right_from_left = o.add_random_var(relative_pose_init(left_from_board, right_from_board),
-                                       name="right_from_left")
-    ml, mr, views = [], [], []
-    for i, (zl, zr, pose) in enumerate(zip(pl, pr, left_from_board)):
-        world_from_left = o.add_random_var(pose.inverse(), name=f"world_from_left_{i}")
-        views.append(world_from_left)
-        ml.append(o.add_board(zl, left, world_from_left, ident, object_points, sigma=sigma,
-                              covariance=covariance, model=model, group="left"))
-        mr.append(o.add_board(zr, right, world_from_left, right_from_left, object_points,
-                              sigma=sigma, covariance=covariance, model=model, group="right"))
-    cal = Calibration(o, model, {"left": left, "right": right, "right_from_left": right_from_left},
-                      {"left": ml, "right": mr})
+        k0 = {"left": np.asarray(fixed_intrinsics[0], float), "right": np.asarray(fixed_intrinsics[1], float)}
+    idx = np.arange(len(obj))
+    obs = [ob for i, (zl, zr) in enumerate(zip(pl, pr))
+           for ob in (_Obs("left", i, zl, obj, idx), _Obs("right", i, zr, obj, idx))]
+
+    def build(obs, prev=None):
+        return _assemble(obs, ["left", "right"], {"left": model, "right": model}, k0,
+                         {"right": relative_pose_init(left_from_board, right_from_board)},
+                         [p.inverse() for p in left_from_board],
+                         {"left": size, "right": size}, sigma, covariance,
+                         fixed=("left", "right") if fixed_intrinsics is not None else (), prev=prev)
+
+    cal = build(obs)
+    cal.view_names = _names(view_names, len(pl))
     if solve:
-        cal.result = o.solve()
+        cal = _solve(cal, robust, build)
         # the right camera sees the same boards turned by one rotation: the
         # same spread of planes
-        check_solved_views(o, [left, right], views, "stereo")
+        check_solved_views(cal.problem, [cal.ids["left"], cal.ids["right"]],
+                           [v for v in cal.world_from_ref if v is not None], "stereo")
+    return cal
+
+
+def _check_detection(camera: str, i: int, det: Any, size: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    if det is None:
+        return None
+    try:
+        z, obj = (np.asarray(a, float) for a in det)
+    except (TypeError, ValueError):
+        raise ValueError(f"{camera}, view {i}: a detection must be (pixels (N, 2), board points (N, 3))") from None
+    if z.ndim != 2 or z.shape[1] != 2 or obj.shape != (len(z), 3):
+        raise ValueError(f"{camera}, view {i}: pixels must be (N, 2) and board points (N, 3), got "
+                         f"{z.shape} and {obj.shape}")
+    if len(z) < 4:
+        return None  # too few corners to place the board: not a view of this camera
+    if not (np.all(np.isfinite(z)) and np.all(np.isfinite(obj))):
+        raise ValueError(f"{camera}, view {i}: non-finite points")
+    if np.any(z < -0.5) or np.any(z > size - 0.5):
+        raise ValueError(f"{camera}, view {i}: points outside the {size[0]}×{size[1]} image")
+    return z, obj
+
+
+def calibrate_rig(detections: Mapping[str, Sequence[Any]],
+                  image_size: tuple[int, int] | Mapping[str, tuple[int, int]],
+                  model: str | Mapping[str, str] = "opencv5", sigma: Any = None,
+                  covariance: Any = None, robust: float | bool | None = None,
+                  view_names: Sequence[str] | None = None, solve: bool = True) -> Calibration:
+    """Any number of cameras with partial overlap, in one joint solve.
+
+    Parameters
+    ----------
+    detections : {camera name: [per view (pixels (N, 2), board points (N, 3)) or None]}
+        One entry per synchronised capture (view) for every camera, None where
+        the camera did not see the board; the points may be any subset of the
+        target (ChArUco, AprilTag grids). The first camera is the reference.
+    image_size : (width, height), or one per camera
+    model : a camera model name, or one per camera
+    sigma, covariance : the corner noise (pixels), as :func:`calibrate_mono`
+    robust : drop corners beyond k σ̂ and re-solve (:func:`calibrate_mono`)
+    view_names : a name per view (e.g. file names) for reports and plots
+
+    Initialisation: Zhang per camera (≥ 3 views each); a camera graph whose
+    edges are the pairs of cameras that saw the board in the same views,
+    weighted by the number of such views; cam_from_ref along the tree of the
+    most shared views from the reference (each edge the chordal mean of the
+    pairwise poses); the reference camera's pose per view from every camera
+    that saw it. Then one solve over all intrinsics, cam_from_ref and views.
+    Raises ValueError when a camera is not connected to the reference through
+    shared views, naming it.
+
+    Variables: intrinsics named by the camera, ``<cam>_from_<ref>``, and
+    ``world_from_<ref>_<i>`` per view (world = the board).
+    """
+    cams = list(detections)
+    if not cams:
+        raise ValueError("calibrate_rig: no cameras")
+    n_views = {len(v) for v in detections.values()}
+    if len(n_views) != 1:
+        raise ValueError(f"calibrate_rig: every camera needs one entry per view, got "
+                         f"{ {c: len(v) for c, v in detections.items()} }")
+    nv = n_views.pop()
+    sizes: dict[str, tuple[int, int]] = {}
+    for c in cams:
+        s = image_size[c] if isinstance(image_size, Mapping) else image_size
+        if len(s) != 2:
+            raise ValueError(f"{c}: image_size must be (width, height), got {s}")
+        sizes[c] = (int(s[0]), int(s[1]))
+    models = {c: model[c] if isinstance(model, Mapping) else model for c in cams}
+    for c in cams:
+        model_labels(models[c])  # raises for an unknown model
+        if min(sizes[c]) <= 0:
+            raise ValueError(f"{c}: image_size must be (width, height) > 0, got {sizes[c]}")
+    det: dict[str, list[Any]] = {c: [_check_detection(c, i, d, np.asarray(sizes[c], float))
+                                     for i, d in enumerate(detections[c])] for c in cams}
+    k0: dict[str, np.ndarray] = {}
+    cam_from_board: dict[str, dict[int, SE3]] = {}
+    for c in cams:
+        seen = [i for i in range(nv) if det[c][i] is not None]
+        if len(seen) < 3:
+            raise ValueError(f"{c}: {len(seen)} views with the board, at least 3 are needed to "
+                             "calibrate a camera from a planar board")
+        K, poses = init_camera([det[c][i][1] for i in seen], [det[c][i][0] for i in seen],
+                               sizes[c], c)
+        k0[c] = intrinsics_vector(K, models[c])
+        cam_from_board[c] = dict(zip(seen, poses))
+    # the camera graph: a maximum spanning tree (Prim) by shared views
+    ref = cams[0]
+    cam_from_ref: dict[str, SE3] = {ref: SE3()}
+    while len(cam_from_ref) < len(cams):
+        best = None
+        for a in cam_from_ref:
+            for b in cams:
+                if b in cam_from_ref:
+                    continue
+                shared = sorted(set(cam_from_board[a]) & set(cam_from_board[b]))
+                if shared and (best is None or len(shared) > len(best[2])):
+                    best = (a, b, shared)
+        if best is None:
+            missing = [c for c in cams if c not in cam_from_ref]
+            raise ValueError(f"calibrate_rig: camera(s) {', '.join(missing)} share no view with "
+                             f"{', '.join(cam_from_ref)}: their poses in the rig are undetermined")
+        a, b, shared = best
+        b_from_a = relative_pose_init([cam_from_board[a][i] for i in shared],
+                                      [cam_from_board[b][i] for i in shared])
+        cam_from_ref[b] = b_from_a * cam_from_ref[a]
+    world_from_ref: list[SE3 | None] = []
+    for i in range(nv):
+        # ref_from_board = c_from_ref⁻¹ · c_from_board, from every camera c that saw view i
+        est = [cam_from_ref[c].inverse() * cam_from_board[c][i] for c in cams if i in cam_from_board[c]]
+        world_from_ref.append(mean_pose(est).inverse() if est else None)
+    obs = [_Obs(c, i, det[c][i][0], det[c][i][1], np.arange(len(det[c][i][0])))
+           for i in range(nv) for c in cams if det[c][i] is not None]
+
+    def build(obs, prev=None):
+        return _assemble(obs, cams, models, k0, cam_from_ref, world_from_ref, sizes, sigma,
+                         covariance, prev=prev)
+
+    cal = build(obs)
+    cal.view_names = _names(view_names, nv)
+    if solve:
+        cal = _solve(cal, robust, build)
+        for c in cams:
+            vids = [cal.world_from_ref[i] for i in sorted(set(cal.view_index[c]))]
+            check_solved_views(cal.problem, [cal.ids[c]], [v for v in vids if v is not None], c)
     return cal
 
 

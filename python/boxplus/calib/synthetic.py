@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from boxplus.geometry import look_at, project
+from boxplus.calib.models import project
+from boxplus.geometry import look_at
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K"]
+__all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K",
+           "numeric_jacobian"]
 
 # fx fy cx cy k1 k2 p1 p2 k3 of a 640×480 camera (opencv5 layout)
 TRUE_K = np.array([520.0, 515.0, 322.0, 245.0, -0.28, 0.08, 0.001, -0.0005, 0.0])
@@ -64,3 +66,31 @@ def errors_in_sigma(o, rep, ids, truth) -> dict:
             d = np.asarray(est.vec) - np.asarray(t)
         out[name] = np.abs(d) / rep.std(o.variable_name(vid))
     return out
+
+
+def numeric_jacobian(o, mids, h: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+    """(the problem's whitened Jacobian, its central differences) over the free
+    variables (``o.jacobian()``'s columns), for the residuals of the measurements
+    ``mids`` (their rows must be all of the problem's). Each direction j of a
+    variable x is stepped through ⊞: (r(x ⊞ hⱼeⱼ) − r(x ⊞ −hⱼeⱼ)) / 2hⱼ, with
+    hⱼ = h · max(1, |xⱼ|) for Rⁿ variables (intrinsics in pixels) and h otherwise."""
+    def residuals():
+        return np.concatenate([o.residual(m) for m in mids])
+
+    jac = o.jacobian()
+    J = np.asarray(jac["jacobian"])
+    if not np.allclose(jac["residuals"], residuals()):
+        raise ValueError("numeric_jacobian: mids must be every measurement of the problem, in order")
+    cols = []
+    for vid in jac["variables"]:
+        x0 = o[vid]
+        for j in range(o.codec(vid).dof):
+            d = np.zeros(o.codec(vid).dof)
+            d[j] = h * (max(1.0, abs(np.asarray(x0.vec)[j])) if hasattr(x0, "vec") else 1.0)
+            o.set_value(vid, x0 + d)
+            rp = residuals()
+            o.set_value(vid, x0 + (-d))
+            rm = residuals()
+            o.set_value(vid, x0)
+            cols.append((rp - rm) / (2 * d[j]))
+    return J, np.column_stack(cols)

@@ -7,7 +7,8 @@ namespace boxplus {
 namespace camera {
 void ThrowUnknownCameraModel(const std::string& name) {
   throw Error("unknown camera model '" + name +
-              "' (expected simple_radial, pinhole, radial1, radial2 or opencv5)");
+              "' (expected simple_radial, pinhole, radial1, radial2, opencv5, rational, "
+              "kannala_brandt or double_sphere)");
 }
 }  // namespace camera
 

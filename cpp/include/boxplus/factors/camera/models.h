@@ -1,9 +1,12 @@
-// Camera models: intrinsics k and the projection uv = π(k, x, y) of a point
-// with normalised coordinates x = X/Z, y = Y/Z (in the camera frame), and the
-// rig chain every camera factor shares.
+// Camera models: intrinsics k and the projection uv = π(k, p_in_cam) of a
+// point p_in_cam = (X, Y, Z) in the camera frame, and the rig chain every
+// camera factor shares. Every model has `kSize`, `kName` and
+// `template <typename T> static void ProjectPoint(const T* k, const T* p, T* uv)`;
+// the factors are templates over the model, so each model below serves every
+// camera factor (point, board, marker, DH marker).
 //
-// One model family, uv = [fx·x', fy·y'] + [cx, cy], with the distorted
-// normalised point (r² = x² + y²)
+// 1. Pinhole with Brown–Conrady distortion of x = X/Z, y = Y/Z. One family, uv = [fx·x', fy·y'] +
+// [cx, cy], with the distorted normalised point (r² = x² + y²)
 //   x' = x·rad + 2p1·xy + p2(r² + 2x²),  y' = y·rad + p1(r² + 2y²) + 2p2·xy,
 //   rad = 1 + k1 r² + k2 r⁴ + k3 r⁶,
 // instantiated (CameraModel<focals, radial terms, tangential>) as
@@ -12,8 +15,20 @@
 //   Radial1       k = [fx, fy, cx, cy, k1]     (OpenCV: FIX_K2|FIX_K3|ZERO_TANGENT_DIST)
 //   Radial2       k = [fx, fy, cx, cy, k1, k2] (OpenCV: FIX_K3|ZERO_TANGENT_DIST)
 //   OpenCV5       k = [fx, fy, cx, cy, k1, k2, p1, p2, k3]  (OpenCV's default model)
-// Units: f, c in pixels, k, p dimensionless. Points behind the camera still give
-// a value (no branch), so Jacobians stay smooth; initialise with the board in front.
+//   Rational      k = [fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6]
+//                 (OpenCV's CALIB_RATIONAL_MODEL: rad = (1 + k1 r² + k2 r⁴ + k3 r⁶)
+//                  / (1 + k4 r² + k5 r⁴ + k6 r⁶), the tangential terms as above)
+// 2. KannalaBrandt k = [fx, fy, cx, cy, k1, k2, k3, k4] (OpenCV's cv2.fisheye
+//    with zero skew, Kalibr's "equidistant"; Kannala & Brandt, PAMI 2006, eq. 6):
+//      θ = atan2(r, Z), r = √(X² + Y²),  θ_d = θ (1 + k1 θ² + k2 θ⁴ + k3 θ⁶ + k4 θ⁸),
+//      uv = [fx θ_d X / r + cx, fy θ_d Y / r + cy]   (θ_d / r → 1 / Z at r = 0).
+// 3. DoubleSphere k = [fx, fy, cx, cy, ξ, α] (Usenko, Demmel & Cremers, 3DV 2018,
+//    eqs. 40–45):  d1 = ‖p‖,  d2 = √(X² + Y² + (ξ d1 + Z)²),
+//      uv = [fx X, fy Y] / (α d2 + (1 − α)(ξ d1 + Z)) + [cx, cy];
+//    ξ = α = 0 is the pinhole model.
+// Units: f, c in pixels, the other coefficients dimensionless. Points behind
+// the camera still give a value (no branch), so Jacobians stay smooth;
+// initialise with the board in front.
 #pragma once
 
 #include <string>
@@ -27,10 +42,13 @@ namespace camera {
 [[noreturn]] void ThrowUnknownCameraModel(const std::string& name);
 
 // kFocals: 1 (f) or 2 (fx, fy); kRadial: number of radial coefficients
-// k1, k2, k3; kTangential: p1, p2 (stored between k2 and k3, OpenCV's order).
-template <int kFocals, int kRadial, bool kTangential>
+// k1, k2, k3; kTangential: p1, p2 (stored between k2 and k3, OpenCV's order);
+// kRational: the denominator's k4, k5, k6 (after k3, OpenCV's order; needs
+// kRadial = 3 and kTangential).
+template <int kFocals, int kRadial, bool kTangential, bool kRational = false>
 struct CameraModel {
-  static constexpr int kSize = kFocals + 2 + kRadial + (kTangential ? 2 : 0);
+  static_assert(!kRational || (kRadial == 3 && kTangential), "rational needs k1..k3, p1, p2");
+  static constexpr int kSize = kFocals + 2 + kRadial + (kTangential ? 2 : 0) + (kRational ? 3 : 0);
 
   // Index in k of the radial coefficient k_{i+1}.
   static constexpr int RadialIndex(int i) {
@@ -45,7 +63,11 @@ struct CameraModel {
       // Horner: k1 r² + k2 r⁴ + k3 r⁶ = r²(k1 + r²(k2 + r² k3)).
       T poly = k[RadialIndex(kRadial - 1)] * r2;
       for (int i = kRadial - 2; i >= 0; --i) poly = r2 * (k[RadialIndex(i)] + poly);
-      const T rad = T(1.0) + poly;
+      T rad = T(1.0) + poly;
+      if constexpr (kRational) {
+        const T* d = k + kFocals + 7;  // k4, k5, k6
+        rad /= T(1.0) + r2 * (d[0] + r2 * (d[1] + r2 * d[2]));
+      }
       xd = x * rad;
       yd = y * rad;
       if constexpr (kTangential) {
@@ -57,6 +79,11 @@ struct CameraModel {
     }
     uv[0] = k[0] * xd + k[kFocals];
     uv[1] = k[kFocals - 1] * yd + k[kFocals + 1];
+  }
+
+  template <typename T>
+  static void ProjectPoint(const T* k, const T* p, T* uv) {
+    Project(k, p[0] / p[2], p[1] / p[2], uv);
   }
 };
 
@@ -76,8 +103,54 @@ struct OpenCV5 : CameraModel<2, 3, true> {
   static constexpr const char* kName = "opencv5";
 };
 
+struct Rational : CameraModel<2, 3, true, true> {
+  static constexpr const char* kName = "rational";
+};
+
+struct KannalaBrandt {
+  static constexpr const char* kName = "kannala_brandt";
+  static constexpr int kSize = 8;
+
+  template <typename T>
+  static void ProjectPoint(const T* k, const T* p, T* uv) {
+    const T r2 = p[0] * p[0] + p[1] * p[1];
+    T scale;  // θ_d / r
+    // At r = 0, atan2 and the division are 0/0; the limit θ_d / r = 1 / Z
+    // (and its derivative, as θ_d / r = (1 + O(θ²)) / Z) hold there.
+    if (r2 < T(1e-30)) {
+      scale = T(1.0) / p[2];
+    } else {
+      const T r = sqrt(r2);
+      const T theta = atan2(r, p[2]);
+      const T t2 = theta * theta;
+      const T poly = T(1.0) + t2 * (k[4] + t2 * (k[5] + t2 * (k[6] + t2 * k[7])));
+      scale = theta * poly / r;
+    }
+    uv[0] = k[0] * scale * p[0] + k[2];
+    uv[1] = k[1] * scale * p[1] + k[3];
+  }
+};
+
+struct DoubleSphere {
+  static constexpr const char* kName = "double_sphere";
+  static constexpr int kSize = 6;
+
+  template <typename T>
+  static void ProjectPoint(const T* k, const T* p, T* uv) {
+    const T& xi = k[4];
+    const T& alpha = k[5];
+    const T d1 = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    const T zs = xi * d1 + p[2];
+    const T d2 = sqrt(p[0] * p[0] + p[1] * p[1] + zs * zs);
+    const T den = alpha * d2 + (T(1.0) - alpha) * zs;
+    uv[0] = k[0] * p[0] / den + k[2];
+    uv[1] = k[1] * p[1] / den + k[3];
+  }
+};
+
 // Calls f(Model{}) with the model named `name` ("simple_radial", "pinhole",
-// "radial1", "radial2", "opencv5"); throws boxplus::Error for other names.
+// "radial1", "radial2", "opencv5", "rational", "kannala_brandt",
+// "double_sphere"); throws boxplus::Error for other names.
 template <class F>
 auto WithCameraModel(const std::string& name, F&& f) {
   if (name == SimpleRadial::kName) return f(SimpleRadial{});
@@ -85,6 +158,9 @@ auto WithCameraModel(const std::string& name, F&& f) {
   if (name == Radial1::kName) return f(Radial1{});
   if (name == Radial2::kName) return f(Radial2{});
   if (name == OpenCV5::kName) return f(OpenCV5{});
+  if (name == Rational::kName) return f(Rational{});
+  if (name == KannalaBrandt::kName) return f(KannalaBrandt{});
+  if (name == DoubleSphere::kName) return f(DoubleSphere{});
   ThrowUnknownCameraModel(name);
   return f(OpenCV5{});  // not reached
 }

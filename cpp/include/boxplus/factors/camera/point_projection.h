@@ -29,7 +29,7 @@ namespace camera {
 template <class Model, typename T>
 void ProjectionResidual(const T* k, const T* p_in_cam, const double* z, const Eigen::Matrix2d& W,
                         T* residual) {
-  Model::Project(k, p_in_cam[0] / p_in_cam[2], p_in_cam[1] / p_in_cam[2], residual);
+  Model::ProjectPoint(k, p_in_cam, residual);
   residual[0] -= T(z[0]);
   residual[1] -= T(z[1]);
   WhitenInPlace<2>(W, residual);
@@ -67,8 +67,8 @@ class PinholePointFunctor {
   Eigen::Vector3d p_in_world_;
 };
 
-// The factor for a camera model chosen at run time by name ("simple_radial",
-// "pinhole", "radial1", "radial2", "opencv5"); `noise` of dimension 2 (pixels).
+// The factor for a camera model chosen at run time by name (see
+// camera::WithCameraModel in models.h); `noise` of dimension 2 (pixels).
 // Throws boxplus::Error for another name, another noise dimension or
 // non-finite input.
 std::shared_ptr<ceres::CostFunction> MakePinholePointFactor(const std::string& model,

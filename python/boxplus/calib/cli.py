@@ -1,0 +1,268 @@
+"""``boxplus-calib``: calibrate one, two or N cameras from folders of images.
+
+Examples
+--------
+One camera, every image of a folder::
+
+    boxplus-calib --target chessboard:9x6:0.025 --out result images/
+
+A stereo pair whose images share a folder (OpenCV's sample: left01.jpg,
+right01.jpg, ...); images of one capture are matched by the number in their
+file names::
+
+    boxplus-calib --target chessboard:9x6:1 --camera 'left=data/left*.jpg' \\
+        --camera 'right=data/right*.jpg' --out result
+
+Steps: detection (a progress line per camera on stderr), the joint solve of
+:func:`boxplus.calib.calibrate_rig` (one camera: mono, two: stereo, more: a
+rig with partial overlap), optionally dropping outlier corners
+(``--robust``), then into ``--out``: ``report.txt`` (also printed),
+``calibration.yml`` (OpenCV FileStorage), ``camchain.yaml`` (Kalibr) and one
+ROS ``camera_info`` YAML per camera where the model has one, and the PNGs —
+per-image RMS by file name, the residual vectors and the coverage of each
+camera, its projection uncertainty, and the rig in 3-D with each board pose
+as a frame.
+
+σ convention: the report's σ are from the corner noise ``--sigma`` (px), and
+the printed report shows the σ rescaled by the fit's residual beside them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import glob
+import re
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["main"]
+
+IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm"}
+
+
+def _images(spec: str) -> list[Path]:
+    p = Path(spec)
+    if p.is_dir():
+        files = sorted(f for f in p.iterdir() if f.suffix.lower() in IMAGE_SUFFIXES)
+    else:
+        files = sorted(Path(f) for f in glob.glob(spec))
+    if not files:
+        raise SystemExit(f"boxplus-calib: no images in '{spec}'")
+    return files
+
+
+def _key(path: Path) -> str:
+    """The capture a file belongs to: the numbers in its name (left01 ↔ right01)."""
+    return "-".join(str(int(n)) for n in re.findall(r"\d+", path.stem))
+
+
+def _match(cams: dict[str, list[Path]]) -> tuple[list[str], dict[str, list[Path | None]]]:
+    """(view names, {camera: file per view or None}): by the numbers in the file names
+    when they identify each camera's files, else by sorted order."""
+    keys = {c: [_key(f) for f in fs] for c, fs in cams.items()}
+    if len(cams) > 1 and all(len(set(k)) == len(k) and all(k) for k in keys.values()):
+        views = sorted({k for ks in keys.values() for k in ks}, key=lambda s: [int(x) for x in s.split("-")])
+        out = {c: [dict(zip(keys[c], fs)).get(v) for v in views] for c, fs in cams.items()}
+        return views, out
+    n = max(len(fs) for fs in cams.values())
+    if len(cams) > 1 and len({len(fs) for fs in cams.values()}) > 1:
+        raise SystemExit("boxplus-calib: the cameras have different numbers of images and their "
+                         "file names carry no capture numbers to match them")
+    first = next(iter(cams.values()))
+    return [f.name for f in first] if len(cams) == 1 else [str(i) for i in range(n)], \
+        {c: list(fs) for c, fs in cams.items()}
+
+
+def _detect(target: Any, cams: dict[str, list[Path | None]], quiet: bool) -> tuple[dict, dict]:
+    import cv2
+
+    detections: dict[str, list[Any]] = {}
+    sizes: dict[str, tuple[int, int]] = {}
+    for c, files in cams.items():
+        det: list[Any] = []
+        found = 0
+        for i, f in enumerate(files):
+            if not quiet:
+                print(f"\rdetecting {c}: {i + 1}/{len(files)} ({found} with the target)", end="",
+                      file=sys.stderr, flush=True)
+            if f is None:
+                det.append(None)
+                continue
+            img = cv2.imread(str(f), cv2.IMREAD_GRAYSCALE)
+            if img is None:
+                raise SystemExit(f"boxplus-calib: cannot read the image '{f}'")
+            size = (img.shape[1], img.shape[0])
+            if sizes.setdefault(c, size) != size:
+                raise SystemExit(f"boxplus-calib: '{f}' is {size[0]}×{size[1]}, camera {c}'s other "
+                                 f"images are {sizes[c][0]}×{sizes[c][1]}")
+            d = target.detect(img)
+            found += d is not None
+            det.append(d)
+        if not quiet:
+            print(f"\rdetecting {c}: {len(files)}/{len(files)} ({found} with the target)",
+                  file=sys.stderr)
+        detections[c] = det
+    return detections, sizes
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(
+        prog="boxplus-calib", description=__doc__.split("\n\n")[0] if __doc__ else None,
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("folders", nargs="*", help="one folder (or glob) of images per camera; the "
+                    "camera is named after the folder")
+    ap.add_argument("--camera", action="append", default=[], metavar="NAME=FOLDER_OR_GLOB",
+                    help="a camera and its images (repeat for more cameras)")
+    ap.add_argument("--target", required=True,
+                    help="chessboard:COLSxROWS:SQUARE, charuco:COLSxROWS:SQUARE:MARKER[:DICT] or "
+                    "aprilgrid:COLSxROWS:TAG:SPACING[:DICT] (sizes in your unit, e.g. metres)")
+    ap.add_argument("--model", default="opencv5",
+                    help="camera model: simple_radial, pinhole, radial1, radial2, opencv5, "
+                    "rational, kannala_brandt or double_sphere (default opencv5)")
+    ap.add_argument("--sigma", type=float, default=1.0, help="corner noise σ in px (default 1)")
+    ap.add_argument("--robust", type=float, nargs="?", const=5.0, default=None, metavar="K",
+                    help="drop corners whose error exceeds K σ̂ and re-solve (K default 5)")
+    ap.add_argument("--distance", type=float, default=None,
+                    help="distance for the projection uncertainty (target units; default the "
+                    "median distance of the boards)")
+    ap.add_argument("--out", default="calibration", help="output folder (default ./calibration)")
+    ap.add_argument("--no-plots", action="store_true", help="write no PNGs")
+    ap.add_argument("--quiet", action="store_true", help="no progress lines")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    from boxplus.calib.models import model_labels
+    from boxplus.calib.targets import parse_target
+
+    try:
+        target = parse_target(args.target)
+        model_labels(args.model)
+    except ValueError as e:
+        raise SystemExit(f"boxplus-calib: {e}") from None
+    cams: dict[str, list[Path]] = {}
+    for spec in args.camera:
+        name, sep, where = spec.partition("=")
+        if not sep or not name:
+            raise SystemExit(f"boxplus-calib: --camera '{spec}': expected NAME=FOLDER_OR_GLOB")
+        cams[name] = _images(where)
+    for folder in args.folders:
+        cams[Path(folder).name or f"cam{len(cams)}"] = _images(folder)
+    if not cams:
+        raise SystemExit("boxplus-calib: no images: give folders or --camera NAME=GLOB")
+    view_names, files = _match(cams)
+    detections, sizes = _detect(target, files, args.quiet)
+    # views no camera saw the target in are left out
+    keep = [i for i in range(len(view_names)) if any(d[i] is not None for d in detections.values())]
+    from boxplus.calib.rig import calibrate_rig
+
+    try:
+        for c in detections:
+            if c not in sizes:
+                raise ValueError(f"camera {c}: no readable image")
+        cal = calibrate_rig({c: [d[i] for i in keep] for c, d in detections.items()}, sizes,
+                            args.model, sigma=args.sigma, robust=args.robust,
+                            view_names=[view_names[i] for i in keep])
+    except ValueError as e:
+        raise SystemExit(f"boxplus-calib: {e}") from None
+    file_names = {c: [f.name if (f := files[c][i]) is not None else "" for i in keep] for c in files}
+    _write(cal, file_names, args)
+    return 0
+
+
+def _write(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
+    from boxplus.calib import io
+    from boxplus.calib.uncertainty import projection_uncertainty
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rep = cal.report()
+    cams = cal.cameras()
+    lines = [f"boxplus-calib: {len(cams)} camera(s), model {args.model}, "
+             f"{len(cal.view_names)} views, target {args.target}"]
+    for c in cal.view_ids:
+        lines.append(f"  {c}: {len(cal.view_ids[c])} views, RMS {_rms(cal, c):.4f} px")
+    lines.append(f"  RMS over all corners: {cal.rms():.4f} px")
+    if args.robust:
+        lines.append(f"  robust (k = {args.robust:g}): dropped {len(cal.dropped)} corner(s)")
+        for d in cal.dropped:
+            lines.append(f"    {d.camera} {file_names[d.camera][d.view]} corner {d.corner}: "
+                         f"{d.error_px:.2f} px")
+    lines.append(str(rep))
+    distance = args.distance or _median_distance(cal)
+    uncs = {}
+    for c in cal.view_ids:
+        try:
+            uncs[c] = projection_uncertainty(cal, c, distance)
+            lines.append(str(uncs[c]))
+        except ValueError as e:
+            lines.append(f"{c}: no projection uncertainty: {e}")
+    written = []
+    io.write_opencv_yaml(out / "calibration.yml", cams)
+    written.append("calibration.yml")
+    for what, fn in [("camchain.yaml", lambda: io.write_camchain(out / "camchain.yaml", cams))] + \
+            [(f"{c.name}_camera_info.yaml", lambda c=c: io.write_camera_info(out / f"{c.name}_camera_info.yaml", c))
+             for c in cams]:
+        try:
+            fn()
+            written.append(what)
+        except ValueError as e:
+            lines.append(f"not written: {what}: {e}")
+    if not args.no_plots:
+        written += _plots(cal, out, uncs, file_names)
+    lines.append("wrote " + ", ".join(written) + f" to {out}")
+    text = "\n".join(lines)
+    (out / "report.txt").write_text(text + "\n")
+    print(text)
+
+
+def _rms(cal: Any, camera: str) -> float:
+    E = np.concatenate([cal.problem.measurement_errors(m) for m in cal.view_ids[camera]])
+    return float(np.sqrt(np.mean(np.sum(E**2, axis=1))))
+
+
+def _median_distance(cal: Any) -> float:
+    o = cal.problem
+    d = [np.linalg.norm(o[v].pos) for v in cal.world_from_ref if v is not None]
+    return float(np.median(d))
+
+
+def _plots(cal: Any, out: Path, uncs: dict, file_names: dict[str, list[str]]) -> list[str]:
+    from boxplus.calib import plot
+
+    o = cal.problem
+    written = []
+    names = {c: [file_names[c][i] for i in cal.view_index[c]] for c in cal.view_ids}
+    plot.plot_rms_per_image(o, cal.view_ids, names, path=out / "rms_per_image.png",
+                            title="RMS reprojection error per image (px)")
+    written.append("rms_per_image.png")
+    for c in cal.view_ids:
+        plot.plot_residual_field(cal, c, path=out / f"residuals_{c}.png")
+        plot.plot_coverage(cal, c, path=out / f"coverage_{c}.png")
+        written += [f"residuals_{c}.png", f"coverage_{c}.png"]
+        if c in uncs:
+            plot.plot_projection_uncertainty(uncs[c], path=out / f"uncertainty_{c}.png")
+            written.append(f"uncertainty_{c}.png")
+    # the rig in the reference camera's frame: cameras and every board pose
+    frames = {cam.name: cam.cam_from_ref.inverse() for cam in cal.cameras()}
+    boards, bnames = [], []
+    obj: dict[int, np.ndarray] = {}
+    for ob in cal.observations:
+        obj.setdefault(ob.view, ob.obj)
+    for i, v in enumerate(cal.world_from_ref):
+        if v is not None:
+            boards.append((o[v].inverse(), obj[i]))
+            bnames.append(cal.view_names[i])
+    size = max(np.ptp(np.concatenate(list(obj.values())), axis=0).max(), 1e-9)
+    plot.plot_rig(out / "rig.png", frames, boards, length=0.3 * size, title="rig and boards",
+                  board_names=bnames)
+    written.append("rig.png")
+    return written
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,344 @@
+"""Calibration files: OpenCV ``FileStorage`` YAML, ROS ``camera_info`` YAML and
+Kalibr camchain YAML, written and read, and OpenCV's layout for rectification.
+
+A calibrated rig is a list of :class:`Camera`: name, model, intrinsics vector
+(:mod:`boxplus.calib.models`), image size and ``cam_from_ref``, the pose that
+maps points of the reference camera (the first one) into this camera.
+
+Formats (each file holds what the format can say; a model it cannot express
+raises ValueError naming the camera):
+
+* OpenCV YAML (``cv2.FileStorage`` reads it): ``camera_names`` (a sequence),
+  per camera ``<name>_model``, ``<name>_image_width``, ``<name>_image_height``,
+  ``<name>_camera_matrix`` (3×3), ``<name>_distortion_coefficients`` (1×n, in
+  OpenCV's order: :data:`~boxplus.calib.models.OPENCV_DISTORTION`) and, for every
+  camera after the first, ``<name>_R`` (3×3) and ``<name>_T`` (3×1), the
+  rotation and translation of ``cam_from_ref`` — for a stereo pair the R, T of
+  ``cv2.stereoCalibrate``/``cv2.stereoRectify``.
+* ROS ``camera_info`` (camera_calibration_parsers): one camera per file;
+  ``plumb_bob`` (pinhole family), ``rational_polynomial`` (rational) or
+  ``equidistant`` (kannala_brandt); the rectification R and projection P
+  default to the identity and [K | 0].
+* Kalibr camchain: ``cam0``, ``cam1``, …; ``pinhole`` with ``radtan`` (4
+  coefficients: k3 must be 0) or ``equidistant``, and ``ds`` (double sphere,
+  intrinsics [ξ, α, fu, fv, pu, pv]); ``T_cn_cnm1`` maps camera n−1 into camera n.
+
+Reading needs PyYAML (the ``calib`` extra); writing needs nothing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from boxplus.calib.models import camera_matrix, intrinsics_vector, model_labels
+from boxplus.manifolds import SE3, SO3
+
+__all__ = ["Camera", "read_camchain", "read_camera_info", "read_opencv_yaml", "to_opencv",
+           "write_camchain", "write_camera_info", "write_opencv_yaml"]
+
+
+@dataclass
+class Camera:
+    """One calibrated camera of a rig.
+
+    ``intrinsics`` in the model's order (:data:`boxplus.calib.models.CAMERA_LABELS`),
+    ``image_size`` (width, height) in pixels, ``cam_from_ref`` maps points of the
+    rig's reference camera into this one (the identity for the reference).
+    """
+
+    name: str
+    model: str
+    intrinsics: np.ndarray
+    image_size: tuple[int, int]
+    cam_from_ref: SE3 = field(default_factory=SE3)
+
+    def __post_init__(self) -> None:
+        k = np.asarray(self.intrinsics, dtype=float).reshape(-1)
+        if k.size != len(model_labels(self.model)) or not np.all(np.isfinite(k)):
+            raise ValueError(f"camera '{self.name}': model '{self.model}' needs "
+                             f"{len(model_labels(self.model))} finite intrinsics, got {k}")
+        self.intrinsics = k
+        self.image_size = (int(self.image_size[0]), int(self.image_size[1]))
+
+    @property
+    def K(self) -> np.ndarray:
+        return camera_matrix(self.intrinsics, self.model)[0]
+
+    @property
+    def dist(self) -> np.ndarray:
+        """The distortion in OpenCV's order for the model."""
+        return camera_matrix(self.intrinsics, self.model)[1]
+
+
+def to_opencv(cameras: Sequence[Camera]) -> dict[str, Any]:
+    """OpenCV's layout of a rig: {name: {"K", "dist", "image_size", "R", "T"}} with R, T
+    the rotation (3×3) and translation (3×1) of cam_from_ref; for two cameras also the
+    top-level "K1", "D1", "K2", "D2", "R", "T", "image_size" that ``cv2.stereoRectify``
+    (pinhole family) or ``cv2.fisheye.stereoRectify`` (kannala_brandt) take as they are."""
+    out: dict[str, Any] = {}
+    for c in cameras:
+        out[c.name] = {"K": c.K, "dist": c.dist, "image_size": c.image_size, "model": c.model,
+                       "R": c.cam_from_ref.rot.R, "T": c.cam_from_ref.pos.reshape(3, 1)}
+    if len(cameras) == 2:
+        a, b = cameras
+        b_from_a = b.cam_from_ref * a.cam_from_ref.inverse()
+        out.update(K1=a.K, D1=a.dist, K2=b.K, D2=b.dist, R=b_from_a.rot.R,
+                   T=b_from_a.pos.reshape(3, 1), image_size=a.image_size)
+    return out
+
+
+# ---- writing ------------------------------------------------------------------------
+
+def _num(x: float) -> str:
+    return repr(float(x))  # shortest round-trip form: a reader gets the same double
+
+
+def _opencv_matrix(name: str, M: np.ndarray) -> str:
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    data = ", ".join(_num(v) for v in M.reshape(-1))
+    return (f"{name}: !!opencv-matrix\n   rows: {M.shape[0]}\n   cols: {M.shape[1]}\n"
+            f"   dt: d\n   data: [ {data} ]\n")
+
+
+def _check_name(name: str) -> None:
+    if not name or not all(ch.isalnum() or ch == "_" for ch in name) or name[0].isdigit():
+        raise ValueError(f"camera name '{name}' cannot be a YAML key prefix: use letters, digits "
+                         f"and '_', not starting with a digit")
+
+
+def write_opencv_yaml(path: str | Path, cameras: Sequence[Camera]) -> None:
+    """Writes the rig in OpenCV FileStorage YAML (readable by ``cv2.FileStorage``)."""
+    if not cameras:
+        raise ValueError(f"{path}: no cameras to write")
+    lines = ["%YAML:1.0\n---\n", "camera_names: [ " + ", ".join(f'"{c.name}"' for c in cameras)
+             + " ]\n"]
+    for i, c in enumerate(cameras):
+        _check_name(c.name)
+        lines.append(f'{c.name}_model: "{c.model}"\n')
+        lines.append(f"{c.name}_image_width: {c.image_size[0]}\n")
+        lines.append(f"{c.name}_image_height: {c.image_size[1]}\n")
+        lines.append(_opencv_matrix(f"{c.name}_camera_matrix", c.K))
+        lines.append(_opencv_matrix(f"{c.name}_distortion_coefficients", c.dist[None]))
+        if i > 0:
+            lines.append(_opencv_matrix(f"{c.name}_R", c.cam_from_ref.rot.R))
+            lines.append(_opencv_matrix(f"{c.name}_T", c.cam_from_ref.pos.reshape(3, 1)))
+    Path(path).write_text("".join(lines))
+
+
+def _ros_model(c: Camera) -> str:
+    if c.model == "rational":
+        return "rational_polynomial"
+    if c.model == "kannala_brandt":
+        return "equidistant"
+    if c.model == "double_sphere":
+        raise ValueError(f"camera '{c.name}': ROS camera_info has no double-sphere model "
+                         "(write a Kalibr camchain or OpenCV YAML)")
+    return "plumb_bob"
+
+
+def _ros_matrix(name: str, M: np.ndarray) -> str:
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    return (f"{name}:\n  rows: {M.shape[0]}\n  cols: {M.shape[1]}\n  data: ["
+            + ", ".join(_num(v) for v in M.reshape(-1)) + "]\n")
+
+
+def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = None,
+                      P: np.ndarray | None = None) -> None:
+    """Writes one camera as a ROS ``camera_info`` YAML; ``R`` (3×3) and ``P`` (3×4) are the
+    rectification and projection (default: identity and [K | 0])."""
+    model = _ros_model(camera)
+    K = camera.K
+    R = np.eye(3) if R is None else np.asarray(R, float)
+    P = np.column_stack([K, np.zeros(3)]) if P is None else np.asarray(P, float)
+    if R.shape != (3, 3) or P.shape != (3, 4):
+        raise ValueError(f"camera '{camera.name}': R must be 3×3 and P 3×4, got {R.shape}, {P.shape}")
+    text = (f"image_width: {camera.image_size[0]}\nimage_height: {camera.image_size[1]}\n"
+            f"camera_name: {camera.name}\n" + _ros_matrix("camera_matrix", K)
+            + f"distortion_model: {model}\n" + _ros_matrix("distortion_coefficients", camera.dist[None])
+            + _ros_matrix("rectification_matrix", R) + _ros_matrix("projection_matrix", P))
+    Path(path).write_text(text)
+
+
+def _kalibr_entry(c: Camera) -> tuple[str, list[float], str, list[float]]:
+    """(camera_model, intrinsics, distortion_model, distortion_coeffs) in Kalibr's terms."""
+    K, d = c.K, c.dist
+    pin = [K[0, 0], K[1, 1], K[0, 2], K[1, 2]]
+    if c.model == "double_sphere":
+        return "ds", [d[0], d[1], *pin], "none", []
+    if c.model == "kannala_brandt":
+        return "pinhole", pin, "equidistant", list(d)
+    if c.model == "rational":
+        raise ValueError(f"camera '{c.name}': Kalibr has no rational model (write OpenCV YAML "
+                         "or ROS camera_info)")
+    if d[4] != 0:
+        raise ValueError(f"camera '{c.name}': Kalibr's radtan has k1 k2 p1 p2 only, k3 = {d[4]:g} "
+                         "(calibrate with model 'radial2' or write OpenCV YAML)")
+    if not np.any(d):
+        return "pinhole", pin, "none", []
+    return "pinhole", pin, "radtan", list(d[:4])
+
+
+def _flow(v: Sequence[float]) -> str:
+    return "[" + ", ".join(_num(x) for x in v) + "]"
+
+
+def write_camchain(path: str | Path, cameras: Sequence[Camera],
+                   topics: Sequence[str] | None = None) -> None:
+    """Writes the rig as a Kalibr camchain YAML (cam0 = the first camera)."""
+    lines = []
+    for i, c in enumerate(cameras):
+        cm, intr, dm, dc = _kalibr_entry(c)
+        lines.append(f"cam{i}:\n")
+        if i > 0:
+            T = (c.cam_from_ref * cameras[i - 1].cam_from_ref.inverse()).matrix()
+            lines.append("  T_cn_cnm1:\n" + "".join(f"  - {_flow(row)}\n" for row in T))
+        lines.append(f"  camera_model: {cm}\n  intrinsics: {_flow(intr)}\n"
+                     f"  distortion_model: {dm}\n  distortion_coeffs: {_flow(dc)}\n"
+                     f"  resolution: [{c.image_size[0]}, {c.image_size[1]}]\n"
+                     f"  rostopic: {topics[i] if topics else f'/{c.name}/image_raw'}\n")
+    Path(path).write_text("".join(lines))
+
+
+# ---- reading ------------------------------------------------------------------------
+
+def _yaml() -> Any:
+    try:
+        import yaml  # type: ignore[import-untyped]
+    except ImportError:
+        raise ImportError("reading calibration files needs PyYAML: pip install pyyaml") from None
+    return yaml
+
+
+def _load(path: str | Path, opencv: bool = False) -> dict:
+    yaml = _yaml()
+    text = Path(path).read_text()
+    if opencv:
+        # FileStorage's header and matrix tag are not YAML 1.1: drop the
+        # directive, read the tag as a plain mapping.
+        text = "\n".join(line for line in text.splitlines() if not line.startswith("%YAML"))
+        text = text.replace("!!opencv-matrix", "")
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        raise ValueError(f"{path}: not valid YAML: {e}") from None
+    if not isinstance(doc, dict):
+        raise ValueError(f"{path}: expected a YAML mapping at the top")
+    return doc
+
+
+def _get(doc: dict, key: str, path: Any) -> Any:
+    if key not in doc:
+        raise ValueError(f"{path}: missing '{key}'")
+    return doc[key]
+
+
+def _matrix(doc: dict, key: str, path: Any, shape: tuple[int, ...] | None = None) -> np.ndarray:
+    m = _get(doc, key, path)
+    try:
+        M = np.asarray(m["data"], dtype=float).reshape(int(m["rows"]), int(m["cols"]))
+    except (TypeError, KeyError, ValueError):
+        raise ValueError(f"{path}: '{key}' must have rows, cols and rows×cols data") from None
+    if shape is not None and M.shape != shape:
+        raise ValueError(f"{path}: '{key}' must be {shape[0]}×{shape[1]}, got {M.shape[0]}×{M.shape[1]}")
+    if not np.all(np.isfinite(M)):
+        raise ValueError(f"{path}: '{key}' has non-finite entries")
+    return M
+
+
+def _pose(R: np.ndarray, t: np.ndarray, what: str) -> SE3:
+    if abs(np.linalg.det(R) - 1) > 1e-6 or np.abs(R.T @ R - np.eye(3)).max() > 1e-6:
+        raise ValueError(f"{what}: not a rotation matrix")
+    return SE3(SO3(R), np.asarray(t, float).reshape(3))
+
+
+def read_opencv_yaml(path: str | Path) -> list[Camera]:
+    """The rig of a file written by :func:`write_opencv_yaml` (or by hand in that layout)."""
+    doc = _load(path, opencv=True)
+    names = _get(doc, "camera_names", path)
+    if isinstance(names, str):
+        names = [names]
+    out = []
+    for i, n in enumerate(names):
+        model = str(_get(doc, f"{n}_model", path))
+        K = _matrix(doc, f"{n}_camera_matrix", path, (3, 3))
+        d = _matrix(doc, f"{n}_distortion_coefficients", path).reshape(-1)
+        try:
+            k = intrinsics_vector(K, model, d)
+        except ValueError as e:
+            raise ValueError(f"{path}: camera '{n}': {e}") from None
+        size = (int(_get(doc, f"{n}_image_width", path)), int(_get(doc, f"{n}_image_height", path)))
+        pose = SE3()
+        if i > 0:
+            pose = _pose(_matrix(doc, f"{n}_R", path, (3, 3)), _matrix(doc, f"{n}_T", path, (3, 1)),
+                         f"{path}: {n}_R")
+        out.append(Camera(str(n), model, k, size, pose))
+    return out
+
+
+_ROS_MODELS = {"plumb_bob": "opencv5", "rational_polynomial": "rational",
+               "equidistant": "kannala_brandt"}
+
+
+def read_camera_info(path: str | Path) -> Camera:
+    """One camera from a ROS ``camera_info`` YAML (plumb_bob, rational_polynomial or
+    equidistant)."""
+    doc = _load(path)
+    dm = str(_get(doc, "distortion_model", path))
+    if dm not in _ROS_MODELS:
+        raise ValueError(f"{path}: distortion_model '{dm}' (expected one of {sorted(_ROS_MODELS)})")
+    model = _ROS_MODELS[dm]
+    K = _matrix(doc, "camera_matrix", path, (3, 3))
+    d = _matrix(doc, "distortion_coefficients", path).reshape(-1)
+    try:
+        k = intrinsics_vector(K, model, d)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
+    size = (int(_get(doc, "image_width", path)), int(_get(doc, "image_height", path)))
+    return Camera(str(doc.get("camera_name", "camera")), model, k, size)
+
+
+def read_camchain(path: str | Path) -> list[Camera]:
+    """The rig of a Kalibr camchain YAML (pinhole with none / radtan / equidistant, and ds)."""
+    doc = _load(path)
+    out: list[Camera] = []
+    i = 0
+    while f"cam{i}" in doc:
+        c = doc[f"cam{i}"]
+        what = f"{path}: cam{i}"
+        cm, dm = str(_get(c, "camera_model", what)), str(c.get("distortion_model", "none"))
+        intr = np.asarray(_get(c, "intrinsics", what), float)
+        dc = np.asarray(c.get("distortion_coeffs", []) or [], float)
+        res = _get(c, "resolution", what)
+        if cm == "ds" and dm == "none" and intr.size == 6:
+            K = np.array([[intr[2], 0, intr[4]], [0, intr[3], intr[5]], [0, 0, 1.0]])
+            model, d = "double_sphere", intr[:2]
+        elif cm == "pinhole" and intr.size == 4 and dm in ("none", "radtan", "equidistant"):
+            K = np.array([[intr[0], 0, intr[2]], [0, intr[1], intr[3]], [0, 0, 1.0]])
+            model = {"none": "pinhole", "radtan": "opencv5", "equidistant": "kannala_brandt"}[dm]
+            d = dc
+            if model == "pinhole" and dc.size:
+                raise ValueError(f"{what}: distortion_model none with coefficients {dc}")
+        else:
+            raise ValueError(f"{what}: unsupported camera_model '{cm}' with distortion_model "
+                             f"'{dm}' and {intr.size} intrinsics")
+        try:
+            k = intrinsics_vector(K, model, d)
+        except ValueError as e:
+            raise ValueError(f"{what}: {e}") from None
+        pose = SE3()
+        if i > 0:
+            T = np.asarray(_get(c, "T_cn_cnm1", what), float)
+            if T.shape != (4, 4):
+                raise ValueError(f"{what}: T_cn_cnm1 must be 4×4, got {T.shape}")
+            pose = _pose(T[:3, :3], T[:3, 3], f"{what}: T_cn_cnm1") * out[-1].cam_from_ref
+        name = str(c.get("rostopic", f"cam{i}")).strip("/").split("/")[0] or f"cam{i}"
+        out.append(Camera(name, model, k, (int(res[0]), int(res[1])), pose))
+        i += 1
+    if not out:
+        raise ValueError(f"{path}: no cam0 entry (not a Kalibr camchain)")
+    return out

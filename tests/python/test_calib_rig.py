@@ -1,0 +1,162 @@
+"""N-camera rigs with partial overlap, outlier rejection, projection
+uncertainty against Monte Carlo, coverage, ChArUco and AprilTag-grid
+detection on rendered images, and the plots (optional ax, a Figure back)."""
+
+import numpy as np
+import pytest
+from boxplus import SE3, SO3
+from boxplus.calib import calibrate_mono, calibrate_rig
+from boxplus.calib.models import project
+from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.calib.uncertainty import coverage, projection_sigma, projection_uncertainty
+
+CAM_FROM_REF = {
+    "cam1": SE3(SO3.exp(np.array([0.0, -0.25, 0.02])), np.array([-0.12, 0.01, 0.02])),
+    "cam2": SE3(SO3.exp(np.array([0.03, 0.3, -0.01])), np.array([0.15, -0.02, 0.03])),
+}
+K = {"cam0": TRUE_K, "cam1": TRUE_K * [1.01, 1.01, 0.98, 1.02, 0.9, 1.1, 0.5, 1.2, 0],
+     "cam2": TRUE_K * [0.99, 0.99, 1.01, 0.99, 1.1, 0.8, -1.0, 0.7, 0]}
+
+
+def _simulate_rig(rng, n_views=24, sigma=0.3):
+    obj = board_points(9, 6, 0.04)
+    views = random_views(n_views, rng, obj.mean(axis=0), distance=0.45, spread=0.7)
+    det = {c: [] for c in K}
+    # occlusions: cam1 misses every third view, cam2 the next one
+    hidden = {"cam0": -1, "cam1": 0, "cam2": 1}
+    for i, v in enumerate(views):
+        for c in K:
+            if i % 3 == hidden[c]:
+                det[c].append(None)
+                continue
+            pose = v if c == "cam0" else v * CAM_FROM_REF[c].inverse()  # world_from_cam
+            z, vis = observe(K[c], pose, obj, sigma, rng, image_size=None)
+            # the corners well inside the image (noise must not push one out)
+            vis &= np.all((z > 3) & (z < [636, 476]), axis=1)
+            det[c].append((z[vis], obj[vis]) if vis.sum() >= 12 else None)
+    return det
+
+
+def test_three_camera_rig_with_partial_overlap_within_3_sigma():
+    rng = np.random.default_rng(21)
+    det = _simulate_rig(rng)
+    seen = {c: [d is not None for d in det[c]] for c in det}
+    # partial overlap: some views are not seen by every camera, some boards partially
+    assert not all(all(s) for s in seen.values())
+    assert any(d is not None and len(d[0]) < 54 for c in det for d in det[c])
+    cal = calibrate_rig(det, (640, 480), "opencv5", sigma=0.3)
+    assert cal.result.termination == "convergence"
+    rep = cal.report()
+    assert not rep.undetermined
+    o = cal.problem
+    for c in K:
+        err = np.abs(o[cal.ids[c]].vec - K[c]) / rep.std(c)
+        assert np.all(err < 3), (c, err)
+    for c, truth in CAM_FROM_REF.items():
+        est = o[cal.ids[f"{c}_from_cam0"]]
+        d = np.concatenate([est.pos - truth.pos, (truth.rot.inverse() * est.rot).log()])
+        assert np.all(np.abs(d) < 3 * rep.std(f"{c}_from_cam0")), (c, d / rep.std(f"{c}_from_cam0"))
+    assert abs(cal.rms() / (0.3 * np.sqrt(2)) - 1) < 0.1
+
+
+def test_rig_refuses_a_camera_without_shared_views():
+    rng = np.random.default_rng(22)
+    det = _simulate_rig(rng, n_views=12)
+    det["cam3"] = [None] * 6 + det["cam0"][6:]
+    for c in ("cam0", "cam1", "cam2"):
+        det[c] = det[c][:6] + [None] * 6
+    with pytest.raises(ValueError, match="camera.s. cam3 share no view with cam0"):
+        calibrate_rig(det, (640, 480))
+
+
+def test_robust_drops_the_outliers_and_names_them():
+    rng = np.random.default_rng(23)
+    obj = board_points()
+    Z = [observe(TRUE_K, v, obj, 0.3, rng)[0] for v in random_views(10, rng, obj.mean(axis=0))]
+    bad = [(2, 5), (7, 40), (7, 41)]
+    for v, c in bad:
+        Z[v][c] += [6.0, -5.0]
+    names = [f"img{i:02d}.png" for i in range(10)]
+    plain = calibrate_mono(Z, obj, (640, 480), sigma=0.3)
+    cal = calibrate_mono(Z, obj, (640, 480), sigma=0.3, robust=True, view_names=names)
+    assert sorted((d.view, d.corner) for d in cal.dropped) == bad
+    assert {d.view_name for d in cal.dropped} == {"img02.png", "img07.png"}
+    assert all(d.error_px > 5 for d in cal.dropped)
+    assert abs(cal.rms() / (0.3 * np.sqrt(2)) - 1) < 0.1 < abs(plain.rms() / (0.3 * np.sqrt(2)) - 1)
+    assert sum(len(cal.problem.measurement_errors(m)) for m in cal.view_ids["camera"]) == 540 - 3
+    # no outliers: nothing dropped
+    clean = calibrate_mono([observe(TRUE_K, v, obj, 0.3, rng)[0]
+                            for v in random_views(10, rng, obj.mean(axis=0))], obj, (640, 480),
+                           sigma=0.3, robust=True)
+    assert clean.dropped == []
+
+
+def test_projection_uncertainty_equals_monte_carlo():
+    """The predicted σ (intrinsics and board poses, mrcal's method) against the
+    spread of q̂ − q over repeated calibrations of fresh noise, at 3 pixels."""
+    rng = np.random.default_rng(24)
+    obj = board_points()
+    views = random_views(8, rng, obj.mean(axis=0))
+    sigma, dist = 0.5, 0.6
+    pix = np.array([[320.0, 240.0], [200.0, 150.0], [450.0, 330.0]])
+
+    def run(seed):
+        r = np.random.default_rng(seed)
+        return calibrate_mono([observe(TRUE_K, v, obj, sigma, r)[0] for v in views], obj, (640, 480),
+                              sigma=sigma)
+
+    from boxplus.calib.models import rays
+    ray = rays(TRUE_K, pix, "opencv5")
+    p_true = dist * ray / np.linalg.norm(ray, axis=1, keepdims=True)
+    errs = []
+    for seed in range(40):
+        cal = run(1000 + seed)
+        o = cal.problem
+        pc = np.zeros_like(p_true)
+        for i, vid in enumerate(cal.world_from_ref):
+            pw = p_true @ views[i].rot.R.T + views[i].pos  # the point fixed in the board frame
+            T = o[vid]  # the estimated world_from_cam of view i
+            pc += (pw - T.pos) @ T.rot.R
+        errs.append(project(o[cal.ids["camera"]].vec, pc / len(views), "opencv5") - pix)
+    E = np.array(errs)  # (runs, 3, 2)
+    sig = projection_sigma(cal, "camera", pix, dist)
+    for j in range(len(pix)):
+        emp = np.sqrt(np.linalg.eigvalsh(np.cov(E[:, j].T))[-1])
+        pred = sig[j]
+        assert 0.7 < emp / pred < 1.35, (j, emp, pred)
+    # intrinsics only: a different (larger at the centre) figure, as mrcal explains
+    only_k = projection_uncertainty(cal, "camera", dist, poses=False, grid=(5, 5))
+    assert only_k.poses is False and np.all(np.isfinite(only_k.sigma))
+
+
+def test_coverage_counts_every_corner():
+    rng = np.random.default_rng(25)
+    obj = board_points()
+    Z = [observe(TRUE_K, v, obj, 0.3, rng)[0] for v in random_views(6, rng, obj.mean(axis=0))]
+    cal = calibrate_mono(Z, obj, (640, 480), sigma=0.3)
+    C = coverage(cal, "camera", grid=(8, 6))
+    assert C.shape == (6, 8) and C.sum() == 6 * 54
+    assert C[0, 0] == sum(np.sum((z[:, 0] < 80) & (z[:, 1] < 80)) for z in Z)
+
+
+def test_plots_take_an_axes_and_return_the_figure(tmp_path):
+    matplotlib = pytest.importorskip("matplotlib")
+    backend = matplotlib.get_backend()
+    from boxplus.calib import plot
+    from matplotlib.figure import Figure
+
+    rng = np.random.default_rng(26)
+    cal = calibrate_rig(_simulate_rig(rng, n_views=12), (640, 480), sigma=0.3)
+    fig = Figure()
+    ax = fig.add_subplot()
+    assert plot.plot_rms_per_image(cal.problem, cal.view_ids, ax=ax) is fig
+    assert plot.plot_coverage(cal, "cam1", path=tmp_path / "cov.png").savefig is not None
+    unc = projection_uncertainty(cal, "cam2", 0.6, grid=(8, 6))
+    assert isinstance(plot.plot_projection_uncertainty(unc, path=tmp_path / "u.png"), Figure)
+    assert isinstance(plot.plot_residual_field(cal, "cam0"), Figure)
+    ax3 = Figure().add_subplot(projection="3d")
+    assert plot.plot_rig(frames={"cam0": SE3()}, boards=[(SE3(), board_points())], ax=ax3) is ax3.figure
+    assert isinstance(plot.plot_reprojection_errors(cal.problem, tmp_path / "e.png"), Figure)
+    for name in ("cov.png", "u.png", "e.png"):
+        assert (tmp_path / name).stat().st_size > 1000
+    assert matplotlib.get_backend() == backend
