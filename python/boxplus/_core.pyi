@@ -922,7 +922,7 @@ class Problem:
         """
     def add_joint_term(self, spec: dict, noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
         """
-        One term of joint calibration (link, distance, plane, line, line_anchor, projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
+        One term of joint calibration (link, distance, plane, line, line_anchor, projection, target_projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
         """
     def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """

@@ -342,3 +342,20 @@ def test_bad_arm_and_term_input_is_named():
     with pytest.raises(ValueError, match="projection into 'mono': .*noise of dimension 3 for an error of 2"):
         rig.project(p, "mono", [1.0, 2.0], noise=bp.NoiseModel.isotropic(3, 1.0))
     assert dh_labels(2) == ["theta1", "d1", "a1", "alpha1", "theta2", "d2", "a2", "alpha2"]
+
+
+def test_target_projection_equals_one_projection_per_point():
+    rig, *_ = _small_rig()
+    q = np.array([0.1, 0.8, -0.9, 0.5, 0.2])
+    P = np.array([[0.0, 0.0, 0.0], [0.03, 0.0, 0.0], [0.0, 0.04, 0.0]])
+    Z = np.array([[300.0, 240.0], [320.0, 250.0], [310.0, 230.0]])
+    m_all = rig.project_targets("arm", q, P, "stereo", Z, camera=1, reading="r", covariance=np.diag([0.25, 0.5]))
+    singles = [rig.project(rig.arm_point("arm", q, p, reading="r"), "stereo", z, camera=1,
+                           covariance=np.diag([0.25, 0.5])) for p, z in zip(P, Z)]
+    o = rig.problem
+    assert np.allclose(o.measurement_errors(m_all), np.concatenate([o.measurement_errors(m) for m in singles]),
+                       atol=1e-10)
+    assert np.allclose(o.residual(m_all), np.concatenate([o.residual(m) for m in singles]), atol=1e-10)
+    _numeric_jacobian_check(o, [m_all])
+    with pytest.raises(ValueError, match="p_in_target must be \\(M, 3\\) and Z \\(M, 2\\)"):
+        rig.project_targets("arm", q, P, "stereo", Z[:2], reading="r", sigma=1.0)

@@ -117,9 +117,10 @@ void RegisterJointFactors(py::module_& m) {
             name.empty() ? std::string("joint term") : "measurement '" + name + "'";
         Blocks b{p, what, {}, {}, {}};
         joint::TermSpec t;
-        t.kind = static_cast<joint::TermKind>(
-            Choice(spec, "kind", {"link", "distance", "plane", "line", "line_anchor", "projection"},
-                   what));
+        t.kind = static_cast<joint::TermKind>(Choice(
+            spec, "kind",
+            {"link", "distance", "plane", "line", "line_anchor", "projection", "target_projection"},
+            what));
         if (spec.contains("a")) t.a = ParsePoint(spec["a"].cast<py::dict>(), b);
         if (spec.contains("b")) t.b = ParsePoint(spec["b"].cast<py::dict>(), b);
         if (spec.contains("surface")) t.surface = ParseSurface(spec["surface"].cast<py::dict>(), b);
@@ -131,12 +132,14 @@ void RegisterJointFactors(py::module_& m) {
           t.camera.pose = b.Map(c, "pose");
         }
         t.z = Get<Eigen::VectorXd>(spec, "z", Eigen::VectorXd());
+        t.targets = Get<Eigen::MatrixXd>(spec, "targets", Eigen::MatrixXd());
         t.W = noise.sqrt_information();
         auto cost = joint::MakeJointTerm(t, b.sizes, what);
         return p.AddMeasurement(cost, b.ids, noise, loss ? loss->loss : nullptr, name);
       },
       py::arg("spec"), py::arg("noise"), py::arg("name") = "", py::arg("loss") = py::none(),
-      "One term of joint calibration (link, distance, plane, line, line_anchor, projection) "
+      "One term of joint calibration (link, distance, plane, line, line_anchor, projection, "
+      "target_projection) "
       "over 3D-system points (constant, variable, DH chain, light sheet, beam); see "
       "factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.");
 }

@@ -607,6 +607,40 @@ class JointRig:
         """π(k, cam_from_system · root_from_system⁻¹ · P) − z ~ N(0, Σ): ``point`` (of any system)
         seen in camera ``camera`` (0 or 1 for a stereo pair) of ``system``."""
         what = f"projection into '{system}'"
+        cam = self._camera_of(system, camera, what)
+        self._data[system] += 1
+        self._data[point.system] += 1
+        if point.system != system:
+            self._edges.append((point.system, system))
+        return self._add({"kind": "projection", "a": point.spec, "z": _pixels(z, what), "camera": cam},
+                         2, f"projection[{system}]", sigma, covariance, information, noise, loss, what)
+
+    def project_targets(self, arm: str, joints: Any, p_in_target: Any, system: str, Z: Any, camera: int = 0,
+                        reading: Any = None, sigma: Any = None, covariance: Any = None,
+                        information: Any = None, noise: NoiseModel | None = None,
+                        loss: LossSpec = None) -> int:
+        """:meth:`project` of M points of the arm's target at one reading (a board view) in one
+        camera, as one term: FK once for all M (the fast form of M ``project(arm_point(...))``).
+        Z (M, 2) pixels; the noise is that of one point (2-dim)."""
+        what = f"target projection of '{arm}' into '{system}'"
+        a = self._system(arm, DHArm, what)
+        P = np.asarray(p_in_target, dtype=float)
+        Z = np.asarray(Z, dtype=float)
+        if P.ndim != 2 or P.shape[1] != 3 or Z.shape != (len(P), 2) or len(P) == 0:
+            raise ValueError(f"{what}: p_in_target must be (M, 3) and Z (M, 2) with M >= 1, got {P.shape} "
+                             f"and {Z.shape}")
+        if not (np.all(np.isfinite(P)) and np.all(np.isfinite(Z))):
+            raise ValueError(f"{what}: non-finite targets or pixels")
+        point = {"kind": "chain", "chain": self._chain(a, joints, reading, what), "pose": self._pose_id(arm)}
+        cam = self._camera_of(system, camera, what)
+        self._data[system] += 1
+        self._data[arm] += 1
+        if arm != system:
+            self._edges.append((arm, system))
+        return self._add({"kind": "target_projection", "a": point, "z": Z.ravel(), "targets": P, "camera": cam},
+                         2, f"projection[{system}]", sigma, covariance, information, noise, loss, what)
+
+    def _camera_of(self, system: str, camera: int, what: str) -> dict:
         s = self._system(system, (Stereo, Camera, LightSheet, Beam), what)
         if isinstance(s, Stereo):
             if camera not in (0, 1):
@@ -618,14 +652,7 @@ class JointRig:
                 raise ValueError(f"{what}: the system has one camera (camera=0)")
             cam, c2 = s.camera, None
         kid, model = self.cameras[cam]
-        self._data[system] += 1
-        self._data[point.system] += 1
-        if point.system != system:
-            self._edges.append((point.system, system))
-        return self._add({"kind": "projection", "a": point.spec, "z": _pixels(z, what),
-                          "camera": {"model": model, "intrinsics": kid, "cam_from_system": c2,
-                                     "pose": self._pose_id(system)}},
-                         2, f"projection[{system}]", sigma, covariance, information, noise, loss, what)
+        return {"model": model, "intrinsics": kid, "cam_from_system": c2, "pose": self._pose_id(system)}
 
     def _add(self, spec, dim, group, sigma, covariance, information, noise, loss, what, name=None) -> int:
         if isinstance(noise, NoiseModel) and sigma is None:

@@ -95,6 +95,7 @@ int TermResidualSize(TermKind kind) {
     case TermKind::kLine:
       return 3;
     case TermKind::kProjection:
+    case TermKind::kTargetProjection:
       return 2;
     default:
       return 1;
@@ -135,6 +136,13 @@ std::shared_ptr<ceres::CostFunction> MakeJointTerm(const TermSpec& spec,
     case TermKind::kLineAnchor:
       check.Block(spec.surface.block, 6, "line");
       break;
+    case TermKind::kTargetProjection:
+      BOXPLUS_CHECK(spec.a.kind == PointKind::kChain, what, ": target projections need a chain");
+      BOXPLUS_CHECK(
+          spec.targets.rows() >= 1 && spec.targets.cols() == 3 && spec.targets.allFinite(), what,
+          ": targets must be M × 3 finite points with M ≥ 1, got ", spec.targets.rows(), " × ",
+          spec.targets.cols());
+      [[fallthrough]];
     case TermKind::kProjection:
       check.Point(spec.a);
       check.Camera(spec.camera.model, spec.camera.intrinsics);
@@ -142,13 +150,17 @@ std::shared_ptr<ceres::CostFunction> MakeJointTerm(const TermSpec& spec,
       check.OptionalBlock(spec.camera.pose, 7, "root_from_system (SE3)");
       break;
   }
-  const int nz = spec.kind == TermKind::kDistance ? 1 : spec.kind == TermKind::kProjection ? 2 : 0;
+  const int nz = spec.kind == TermKind::kDistance     ? 1
+                 : spec.kind == TermKind::kProjection ? 2
+                 : spec.kind == TermKind::kTargetProjection
+                     ? 2 * static_cast<int>(spec.targets.rows())
+                     : 0;
   BOXPLUS_CHECK(spec.z.size() == nz && spec.z.allFinite(), what, ": the measurement must be ", nz,
                 " finite numbers, got ", spec.z.size());
   auto* cost =
       new ceres::DynamicAutoDiffCostFunction<JointTermFunctor, kStride>(new JointTermFunctor(spec));
   for (int size : block_sizes) cost->AddParameterBlock(size);
-  cost->SetNumResiduals(m);
+  cost->SetNumResiduals(spec.kind == TermKind::kTargetProjection ? nz : m);
   return std::shared_ptr<ceres::CostFunction>(cost);
 }
 

@@ -25,6 +25,9 @@
 //   kLine       e = (I − v vᵀ)(P_a − c) (3)              (collinearity, eq. 6)
 //   kLineAnchor e = v·c (1) in the line's own frame: fixes the slide of c along v
 //   kProjection e = π(k, cam_from_system · root_from_system⁻¹ · P_a) − z (2, pixels)
+//   kTargetProjection  the same for M points c_j of one chain target at one reading
+//               (a board view in one camera): 2M residuals, each pair whitened by the
+//               2 × 2 W, base_from_target evaluated once (M times cheaper than M terms)
 // with P = root_from_s · p. A plane (SurfaceSpec) is a Plane block [n, d] or a Line
 // block [v (unit), c] expressed in the frame of its owner system (pose block) or in
 // the root frame (no pose), or the plane z = 0 of a chain's target
@@ -102,18 +105,28 @@ struct CameraSpec {
   int pose = kNoBlock;             // root_from_system
 };
 
-enum class TermKind { kLink = 0, kDistance, kPlane, kLine, kLineAnchor, kProjection };
+enum class TermKind {
+  kLink = 0,
+  kDistance,
+  kPlane,
+  kLine,
+  kLineAnchor,
+  kProjection,
+  kTargetProjection
+};
 
 struct TermSpec {
   TermKind kind = TermKind::kLink;
   PointSpec a, b;
   SurfaceSpec surface;
   CameraSpec camera;
-  Eigen::VectorXd z;  // kDistance: [d̄]; kProjection: [u, v]
-  Eigen::MatrixXd W;  // residual dim × residual dim
+  Eigen::VectorXd z;  // kDistance: [d̄]; kProjection: [u, v]; kTargetProjection: [u₁, v₁, …]
+  Eigen::MatrixXd W;  // noise dim × noise dim
+  Eigen::MatrixXd targets;  // kTargetProjection: M × 3 points c_j in the target frame
 };
 
-// Residual size of a term kind.
+// Dimension of the noise of a term kind (the residual size but for
+// kTargetProjection, whose 2M residuals are whitened pair by pair).
 int TermResidualSize(TermKind kind);
 
 namespace internal {
@@ -276,6 +289,28 @@ void RootSurface(const SurfaceSpec& s, T const* const* x, T* out) {
   for (int i = 0; i < 3; ++i) out[i] = v[i];
 }
 
+// π(k, cam_from_system · root_from_system⁻¹ · P) − z, whitened by the 2 × 2 W.
+template <typename T>
+void ProjectionResidual(const CameraSpec& c, const T* P, const double* z, const Eigen::MatrixXd& W,
+                        T const* const* x, T* r) {
+  T p_sys[3], p_cam[3], e[2];
+  if (c.pose == kNoBlock) {
+    for (int i = 0; i < 3; ++i) p_sys[i] = P[i];
+  } else {
+    InverseTransform(x[c.pose], P, p_sys);
+  }
+  if (c.cam_from_system == kNoBlock) {
+    for (int i = 0; i < 3; ++i) p_cam[i] = p_sys[i];
+  } else {
+    Transform(x[c.cam_from_system], p_sys, p_cam);
+  }
+  Project(c.model, x[c.intrinsics], p_cam[0] / p_cam[2], p_cam[1] / p_cam[2], e);
+  e[0] -= T(z[0]);
+  e[1] -= T(z[1]);
+  r[0] = W(0, 0) * e[0] + W(0, 1) * e[1];
+  r[1] = W(1, 0) * e[0] + W(1, 1) * e[1];
+}
+
 }  // namespace internal
 
 class JointTermFunctor {
@@ -284,6 +319,27 @@ class JointTermFunctor {
 
   template <typename T>
   bool operator()(T const* const* x, T* r) const {
+    if (s_.kind == TermKind::kTargetProjection) {
+      T pose[7], p[3], P[3];
+      internal::ChainTargetPose(s_.a.chain, x, pose);
+      for (Eigen::Index j = 0; j < s_.targets.rows(); ++j) {
+        const T c[3] = {T(s_.targets(j, 0)), T(s_.targets(j, 1)), T(s_.targets(j, 2))};
+        internal::Transform(pose, c, p);
+        if (s_.a.pose == kNoBlock) {
+          for (int i = 0; i < 3; ++i) P[i] = p[i];
+        } else {
+          internal::Transform(x[s_.a.pose], p, P);
+        }
+        internal::ProjectionResidual(s_.camera, P, s_.z.data() + 2 * j, s_.W, x, r + 2 * j);
+      }
+      return true;
+    }
+    if (s_.kind == TermKind::kProjection) {
+      T P[3];
+      internal::RootPoint(s_.a, x, P);
+      internal::ProjectionResidual(s_.camera, P, s_.z.data(), s_.W, x, r);
+      return true;
+    }
     const int m = TermResidualSize(s_.kind);
     T e[3];
     switch (s_.kind) {
@@ -325,25 +381,8 @@ class JointTermFunctor {
         e[0] = l[0] * l[3] + l[1] * l[4] + l[2] * l[5];
         break;
       }
-      case TermKind::kProjection: {
-        T P[3], p_sys[3], p_cam[3];
-        internal::RootPoint(s_.a, x, P);
-        if (s_.camera.pose == kNoBlock) {
-          for (int i = 0; i < 3; ++i) p_sys[i] = P[i];
-        } else {
-          internal::InverseTransform(x[s_.camera.pose], P, p_sys);
-        }
-        if (s_.camera.cam_from_system == kNoBlock) {
-          for (int i = 0; i < 3; ++i) p_cam[i] = p_sys[i];
-        } else {
-          internal::Transform(x[s_.camera.cam_from_system], p_sys, p_cam);
-        }
-        internal::Project(s_.camera.model, x[s_.camera.intrinsics], p_cam[0] / p_cam[2],
-                          p_cam[1] / p_cam[2], e);
-        e[0] -= T(s_.z[0]);
-        e[1] -= T(s_.z[1]);
+      default:  // the projections returned above
         break;
-      }
     }
     for (int i = 0; i < m; ++i) {
       T acc = T(0.0);
