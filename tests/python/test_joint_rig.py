@@ -359,3 +359,53 @@ def test_target_projection_equals_one_projection_per_point():
     _numeric_jacobian_check(o, [m_all])
     with pytest.raises(ValueError, match="p_in_target must be \\(M, 3\\) and Z \\(M, 2\\)"):
         rig.project_targets("arm", q, P, "stereo", Z[:2], reading="r", sigma=1.0)
+
+
+def _noise_free_rig(data, unknown, mount_unknown):
+    rig = JointRig(root="arm")
+    rig.add_camera("cam1", data.k1_true, fixed=True)
+    rig.add_camera("cam2", data.k2_true, fixed=True)
+    table = data.dh_true.copy()
+    for lab in unknown:  # the other entries are known exactly
+        j, c = int(lab[-1]) - 1, ("theta", "d", "a", "alpha").index(lab[:-1])
+        table[j, c] = data.dh_nominal[j, c]
+    mount0 = data.end_from_board * bp.SE3(bp.SO3.exp([0.01, -0.01, 0.02]), [0.002, -0.003, 0.001]) \
+        if mount_unknown else data.end_from_board
+    rig.add_system(DHArm("arm", table, unknown=unknown, mount=mount0, mount_unknown=mount_unknown))
+    rig.add_system(Stereo("stereo", "cam1", "cam2", data.cam2_from_cam1),
+                   pose=data.arm_from_cam1 * bp.SE3(bp.SO3.exp([0.01, 0.0, -0.01]), [0.003, 0.002, -0.004]))
+    rig.problem.fix(rig.ids["stereo.cam2_from_cam1"])
+    n, d = data.sheet_true[:3] + [0.01, -0.02, 0.0], data.sheet_true[3] + 0.004
+    rig.add_system(LightSheet("laser", "cam2", np.r_[n, d]), pose=data.arm_from_cam2)
+    for b in data.boards:
+        for cam, z in ((0, b.z1), (1, b.z2)):
+            rig.project_targets("arm", b.joints, data.board, "stereo", z, camera=cam, sigma=0.3)
+        rig.coplanar([rig.sheet_point("laser", uv) for uv in b.stripe], rig.arm_plane("arm", b.joints), sigma=1e-3)
+    return rig
+
+
+@pytest.mark.parametrize("mount_unknown", [False, True])
+def test_noise_free_views_recover_the_true_table_mount_and_light_sheet(mount_unknown):
+    """ML on noise-free data from a start off by a few mm / degrees: the identifiable DH
+    entries, the mount (when unknown), the stereo pose and the light sheet come back exactly.
+    With the mount unknown, the last joint's offset and d are the mount's rotation and
+    translation about its z axis: the degeneracy report names them first."""
+    data = make_rig(2, n_boards=6, n_planes=1, n_folds=2, sigma_px=0.0, sigma_encoder=0.0)
+    unknown = ["a2", "a3", "d5", "alpha2", "theta3", "theta5"]
+    if mount_unknown:
+        names = {n for _, ns in _noise_free_rig(data, unknown, True).degeneracy() for n in ns}
+        assert {"arm.dh.theta5", "arm.dh.d5"} <= names and "arm.dh.a2" not in names
+        unknown = unknown[:2] + unknown[3:5]
+    rig = _noise_free_rig(data, unknown, mount_unknown)
+    rig.check_determined()
+    r = rig.solve(function_tolerance=1e-15, gradient_tolerance=1e-15, parameter_tolerance=1e-15)
+    assert r.termination == "convergence"
+    assert np.allclose(rig.table("arm"), data.dh_true, atol=1e-7)
+    assert np.allclose(rig.pose("stereo").ambient[:3], data.arm_from_cam1.ambient[:3], atol=1e-7)
+    if mount_unknown:
+        assert np.allclose(rig.mount("arm").ambient[:3], data.end_from_board.ambient[:3], atol=1e-7)
+    sheet = rig.value("laser.sheet")
+    P = sheet_points(data.model, data.k2_true, np.r_[sheet.normal.vec, sheet.distance.vec], data.boards[0].stripe)
+    P_true = sheet_points(data.model, data.k2_true, data.sheet_true, data.boards[0].stripe)
+    L = rig.pose("laser")
+    assert np.allclose(P @ L.R.T + L.pos, P_true @ data.arm_from_cam2.R.T + data.arm_from_cam2.pos, atol=1e-7)
