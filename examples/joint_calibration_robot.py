@@ -84,7 +84,7 @@ def _stereo_pose(rig: JointRig, data: SyntheticRig, boards: np.ndarray) -> SE3:
     P_s, P_a = [], []
     for v in boards:
         b = data.boards[v]
-        P_s.append(triangulate(data.model, k1, data.model, k2, c21, b.z1, b.z2))
+        P_s.append(triangulate(data.model, k1, data.model, k2, c21, b.z1, b.z2, iterations=0))
         T = dh_pose(rig.table("arm"), b.joints, data.convention, None, data.end_from_board)
         P_a.append(data.board @ T.R.T + T.pos)
     return horn(np.vstack(P_s), np.vstack(P_a))

@@ -419,8 +419,9 @@ class JointRig:
     def stereo_point(self, stereo: str, z1: Any, z2: Any, sigma: Any = None, covariance: Any = None,
                      information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
                      name: str | None = None) -> PointRef:
-        """A pixel pair of a stereo system: a point variable (camera-1 frame) initialised by
-        two-view triangulation at the current values, with its reprojection terms in both images."""
+        """A pixel pair of a stereo system: a point variable (camera-1 frame), with its
+        reprojection terms in both images; it starts at the midpoint of the two rays at the
+        current values (a start value only: the model is the reprojection error)."""
         what = f"stereo_point of '{stereo}'"
         z1, z2 = _pixels(z1, what), _pixels(z2, what)
         return self.stereo_points(stereo, z1[None], z2[None], sigma, covariance, information, noise, loss,
@@ -439,9 +440,10 @@ class JointRig:
                              f"{Z2.shape}")
         (k1, m1), (k2, m2) = self.cameras[s.cam1], self.cameras[s.cam2]
         c21_id = self.ids[f"{stereo}.cam2_from_cam1"]
-        # a start value only (the solver minimises the reprojection error): one Gauss–Newton step
+        # a start value only (the model is the reprojection error the solver minimises):
+        # the midpoint of the two rays at the current values
         X = triangulate(m1, self.problem.value(k1).vec, m2, self.problem.value(k2).vec,
-                        self.problem.value(c21_id), Z1, Z2, iterations=1)
+                        self.problem.value(c21_id), Z1, Z2, iterations=0)
         bad = np.flatnonzero(~np.all(np.isfinite(X), axis=1) | (X[:, 2] <= 0))
         if bad.size:
             i = int(bad[0])
@@ -581,13 +583,17 @@ class JointRig:
         what = f"link '{name}'" if name else f"link {a.system}–{b.system}"
         if a.system == b.system:
             raise ValueError(f"{what}: a link ties two different systems")
-        nm = noise_model(3, sigma, covariance, information, noise, what)
-        nm = NoiseModel.sqrt_information(np.sqrt(self.gamma) * np.asarray(nm.sqrt_information_matrix))
+        if isinstance(sigma, (float, int)) and covariance is None and information is None and noise is None:
+            sigma, nm = sigma / np.sqrt(self.gamma), None  # the cached isotropic models of _add
+        else:
+            nm = noise_model(3, sigma, covariance, information, noise, what)
+            nm = NoiseModel.sqrt_information(np.sqrt(self.gamma) * np.asarray(nm.sqrt_information_matrix))
+            sigma = None
         self._data[a.system] += 1
         self._data[b.system] += 1
         self._edges.append((a.system, b.system))
         return self._add({"kind": "link", "a": a.spec, "b": b.spec}, 3, f"link[{a.system}-{b.system}]",
-                         None, None, None, nm, loss, what, name)
+                         sigma, None, None, nm, loss, what, name)
 
     def distance(self, a: PointRef, b: PointRef, d: float, sigma: Any = None, covariance: Any = None,
                  information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None) -> int:
