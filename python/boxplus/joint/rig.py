@@ -24,7 +24,8 @@ Systems (each a frame; the first added, or ``root=``, is the root):
 * :class:`RangeSensor` — measures points directly (eq. 12).
 * :class:`Camera` — one camera; with :meth:`JointRig.project` any system's point
   (e.g. an arm's target corner) is a reprojection term in any camera of a
-  Camera, Stereo or LightSheet system.
+  Camera, Stereo or LightSheet system; :meth:`JointRig.project_targets` puts a
+  whole board view of an arm into one term (forward kinematics once per view).
 
 Cameras are named sensors (:meth:`JointRig.add_camera`): systems naming the
 same camera *share* it (one intrinsics variable); a copy under another name is
