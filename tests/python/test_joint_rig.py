@@ -409,3 +409,27 @@ def test_noise_free_views_recover_the_true_table_mount_and_light_sheet(mount_unk
     P_true = sheet_points(data.model, data.k2_true, data.sheet_true, data.boards[0].stripe)
     L = rig.pose("laser")
     assert np.allclose(P @ L.R.T + L.pos, P_true @ data.arm_from_cam2.R.T + data.arm_from_cam2.pos, atol=1e-7)
+
+
+def test_beam_is_the_old_active_triangulation_and_a_light_sheet_at_fixed_angle():
+    """The angle-per-point projector (Le & Ng eq. 10) is the special case: Beam points equal
+    ActiveTriangulation's, and a LightSheet holding the sheet of one angle gives the same points."""
+    from boxplus.joint import ActiveTriangulation, camera
+
+    cam_from_laser = bp.SE3(bp.SO3.exp([0.02, 0.3, -0.01]), [0.25, -0.01, 0.03])
+    old = ActiveTriangulation("old", camera=camera(600.0, 322.0, 238.0, -0.10), cam_from_laser=cam_from_laser)
+    rig = JointRig()
+    rig.add_camera("cam", K1)
+    rig.add_system(Beam("beam", "cam", cam_from_laser))
+    beta = 0.2
+    n = cam_from_laser.R @ [np.cos(beta), 0.0, -np.sin(beta)]
+    rig.add_system(LightSheet("sheet", "cam", np.r_[n, n @ cam_from_laser.pos]), pose=bp.SE3())
+    uv = np.array([[300.0, 200.0], [350.0, 260.0], [280.0, 300.0]])
+    p_old = old.evaluate(np.column_stack([uv, np.full(3, beta)]))
+    p_beam = np.array([rig.evaluate(rig.beam_point("beam", u, beta)) for u in uv])
+    p_sheet = np.array([rig.evaluate(rig.sheet_point("sheet", u)) for u in uv])
+    assert np.allclose(p_beam, p_old, atol=1e-12) and np.allclose(p_sheet, p_old, atol=1e-12)
+    # and the C++ terms agree with these NumPy values: a link between the two is zero
+    for u in uv:
+        m = rig.link(rig.beam_point("beam", u, beta), rig.sheet_point("sheet", u), sigma=1e-3)
+        assert np.allclose(rig.problem.measurement_errors(m), 0.0, atol=1e-12)
