@@ -18,6 +18,7 @@ void RegisterPythonMeasurements(pybind11::module_& m);
 // The factors, one function per domain (bindings/factors/<domain>.cc).
 void RegisterCameraFactors(pybind11::module_& m);
 void RegisterKinematicsFactors(pybind11::module_& m);
+void RegisterJointFactors(pybind11::module_& m);
 void RegisterImuFactors(pybind11::module_& m);
 void RegisterDepthFactors(pybind11::module_& m);
 void RegisterPoseFactors(pybind11::module_& m);

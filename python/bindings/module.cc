@@ -14,6 +14,7 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterPythonMeasurements(m);
   boxplus::python::RegisterCameraFactors(m);
   boxplus::python::RegisterKinematicsFactors(m);
+  boxplus::python::RegisterJointFactors(m);
   boxplus::python::RegisterImuFactors(m);
   boxplus::python::RegisterDepthFactors(m);
   boxplus::python::RegisterPoseFactors(m);

@@ -920,6 +920,10 @@ class Problem:
         """
         Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see factors/imu/gravity.h.
         """
+    def add_joint_term(self, spec: dict, noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
+        """
+        One term of joint calibration (link, distance, plane, line, line_anchor, projection, target_projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
+        """
     def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
         """
         Marker on a hand, base_from_hand from forward kinematics (constant); see factors/kinematics/marker.h.

@@ -1,7 +1,7 @@
 """k-fold cross-validation of calibration methods (Le & Ng, Sec. XI-C, Table II).
 
 The data are items of several kinds (e.g. checkerboard views and plane
-views); each kind is split into k folds separately, so that every fold
+views); folds are given by the user, or each kind is split into k folds separately, so that every fold
 trains on (k−1)/k of every kind. Each method is trained on the training
 items of a fold and scored on its validation items; the table reports the
 mean ± standard deviation over the folds of each fold's mean error.
@@ -9,7 +9,8 @@ mean ± standard deviation over the folds of each fold's mean error.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -48,6 +49,9 @@ class CrossValidation:
 
     fold_errors: dict[str, list[float]] = field(default_factory=dict)
     unit: str = "mm"
+    # per method and fold, every metric (when ``validate`` returns rows of several
+    # metrics, an (N, m) array; fold_errors then holds the first)
+    fold_metrics: dict[str, list[np.ndarray]] = field(default_factory=dict)
 
     def mean(self, method: str) -> float:
         return float(np.mean(self.fold_errors[method]))
@@ -67,14 +71,25 @@ class CrossValidation:
         return self.table()
 
 
+def _fold_error(train: Callable[[Split], Any], validate: Callable[[Any, Split], np.ndarray],
+                tr: Split, va: Split, scale: float) -> float:
+    model = train(tr)
+    e = np.asarray(validate(model, va), dtype=float)
+    if e.ndim == 2:  # rows of several metrics: their means
+        return np.mean(e, axis=0) * scale
+    return float(np.mean(e)) * scale
+
+
 def cross_validate(
     methods: Mapping[str, Callable[[Split], Any]],
     validate: Callable[[Any, Split], np.ndarray],
-    sizes: Mapping[str, int],
+    sizes: Mapping[str, int] | None = None,
     k: int = 5,
     seed: int | None = 0,
     scale: float = 1000.0,
     unit: str = "mm",
+    folds: Sequence[tuple[Split, Split]] | None = None,
+    executor: Executor | None = None,
 ) -> CrossValidation:
     """Trains every method on every fold and scores it on the held-out items.
 
@@ -82,18 +97,43 @@ def cross_validate(
     ----------
     methods : mapping name -> train(train_split) -> model
     validate : callable(model, validation_split) -> errors
-        Errors of the model on the held-out items (e.g. distances in metres).
+        Errors of the model on the held-out items (e.g. distances in metres), (N,);
+        or (N, m) rows of m metrics, averaged per metric (``fold_metrics``).
     sizes : mapping kind -> number of items
-    k, seed : folds and the seed of the shuffle
+        For folds made here by :func:`kfold` (with ``k`` and ``seed``).
+    folds : sequence of (train, validation) splits, optional
+        Folds given by the user (each maps a kind to item indices); replaces
+        ``sizes``/``k``/``seed``.
     scale, unit : errors are multiplied by ``scale`` and reported in ``unit``
+    executor : concurrent.futures.Executor, optional
+        Runs the (method, fold) fits in parallel; the results are collected in
+        order, so the table is the same as the serial one, bit for bit, when the
+        methods are deterministic. A process pool needs picklable ``methods``
+        and ``validate`` (module-level functions or ``functools.partial``).
     """
-    splits = kfold(sizes, k, seed)
+    if folds is None:
+        if sizes is None:
+            raise ValueError("cross_validate: give sizes (folds made here) or folds")
+        splits = kfold(sizes, k, seed)
+    else:
+        splits = list(folds)
+        if not splits:
+            raise ValueError("cross_validate: no folds")
+        for i, (tr, va) in enumerate(splits):
+            for kind in set(tr) | set(va):
+                both = np.intersect1d(np.asarray(tr.get(kind, []), int), np.asarray(va.get(kind, []), int))
+                if both.size:
+                    raise ValueError(f"cross_validate: fold {i} trains and validates on items "
+                                     f"{both.tolist()} of kind '{kind}'")
+    jobs = [(name, tr, va) for name in methods for tr, va in splits]
+    if executor is None:
+        errs = [_fold_error(methods[n], validate, tr, va, scale) for n, tr, va in jobs]
+    else:
+        futures = [executor.submit(_fold_error, methods[n], validate, tr, va, scale) for n, tr, va in jobs]
+        errs = [f.result() for f in futures]
     cv = CrossValidation(unit=unit)
-    for name, train in methods.items():
-        errs = []
-        for tr, va in splits:
-            model = train(tr)
-            e = np.asarray(validate(model, va), dtype=float)
-            errs.append(float(np.mean(e)) * scale)
-        cv.fold_errors[name] = errs
+    for i, name in enumerate(methods):
+        per_fold = errs[i * len(splits):(i + 1) * len(splits)]
+        cv.fold_metrics[name] = [np.atleast_1d(e) for e in per_fold]
+        cv.fold_errors[name] = [float(np.atleast_1d(e)[0]) for e in per_fold]
     return cv

@@ -1,14 +1,18 @@
-"""Random restarts around the best solution so far (Le & Ng, Sec. X).
+"""Random restarts about the first solution (Le & Ng, Sec. X).
 
-Levenberg–Marquardt converges to a local minimum. After each convergence the
-best-so-far estimate is perturbed with ⊞ on every free variable,
-x ⊞ δ with δ ~ N(0, diag(s²)), and solved again; the lowest cost wins. The
-random numbers come from ``numpy.random.default_rng(seed)``: the same seed
-gives the same restarts.
+Levenberg–Marquardt converges to a local minimum. After the first solve,
+restart k perturbs its estimate with ⊞ on every free variable,
+x ⊞ δ with δ ~ N(0, diag(s²)), solves again, and the lowest cost wins. Restart
+k draws δ from ``numpy.random.default_rng([seed, k])``: the restarts are
+independent of each other, so they can run in any order or in parallel
+(``executor=``, any :class:`concurrent.futures.Executor`, with ``factory``
+building a fresh copy of the problem per restart) and give the same answer,
+bit for bit, as the serial loop.
 """
 
 from __future__ import annotations
 
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -71,14 +75,40 @@ class RestartResult:
         return n
 
 
+def _perturbed(x0: list[Any], free: list[int], scale: Callable[[Any], np.ndarray], seed: int,
+               k: int) -> dict[int, Any]:
+    rng = np.random.default_rng([seed, k])
+    return {v: x0[v] + rng.normal(0.0, 1.0, len(x0[v])) * scale(x0[v]) for v in free}
+
+
+def _restart(problem: OptimizationProblem, start: dict[int, Any],
+             solve_kw: dict[str, Any]) -> tuple[float, Any, list[Any] | None]:
+    """Solves ``problem`` from ``start``: (cost, summary, values); cost inf outside the domain."""
+    for v, x in start.items():
+        problem.set_value(v, x)
+    try:
+        r = problem.solve(**solve_kw)
+        cost = problem.cost()
+    except EvaluationError:  # the perturbation left the model's domain: skip it
+        return np.inf, None, None
+    return cost, r, problem.X
+
+
+def _restart_fresh(factory: Callable[[], OptimizationProblem], start: dict[int, Any],
+                   solve_kw: dict[str, Any]) -> tuple[float, Any, list[Any] | None]:
+    return _restart(factory(), start, solve_kw)
+
+
 def solve_with_restarts(
     problem: OptimizationProblem,
     restarts: int,
     seed: int | None = 0,
     perturbation: Callable[[Any], np.ndarray] | None = None,
+    executor: Executor | None = None,
+    factory: Callable[[], OptimizationProblem] | None = None,
     **solve_kw: Any,
 ) -> RestartResult:
-    """Solves, then ``restarts`` times perturbs the best estimate and solves again.
+    """Solves, then ``restarts`` times perturbs the first solution and solves again.
 
     Parameters
     ----------
@@ -87,40 +117,54 @@ def solve_with_restarts(
     restarts : int
         Number of extra solves (0: a single solve).
     seed : int, optional
-        Seed of the perturbations.
+        Seed of the perturbations (None: drawn once from fresh entropy).
     perturbation : callable, optional
         ``perturbation(value) -> (dof,) standard deviations`` per variable
         (default :func:`default_perturbation`).
+    executor : concurrent.futures.Executor, optional
+        Runs the restarts in parallel (threads: the C++ solve releases the GIL;
+        processes: ``factory`` and ``perturbation`` must be picklable). Needs
+        ``factory``.
+    factory : callable, optional
+        ``factory() -> OptimizationProblem``: a fresh problem with the same
+        variables (same ids) and measurements as ``problem``; each restart is
+        solved on its own copy (serially too, when given).
     **solve_kw
         Passed to :meth:`OptimizationProblem.solve`.
 
     Returns
     -------
     RestartResult
-        Never a higher cost than the first (single) solve.
+        Never a higher cost than the first (single) solve; the same for any
+        executor and for none.
     """
     if restarts < 0:
         raise ValueError(f"restarts must be >= 0, got {restarts}")
+    if executor is not None and factory is None:
+        raise ValueError("solve_with_restarts: an executor needs factory= (a fresh problem per restart)")
     scale = perturbation or default_perturbation
-    rng = np.random.default_rng(seed)
+    if seed is None:
+        seed = int(np.random.default_rng().integers(2**62))
     result = problem.solve(**solve_kw)
     best_cost, best = problem.cost(), result
-    best_X = problem.X
+    x0 = problem.X
+    best_X = x0
     costs = [best_cost]
     free = [v for v in range(problem.num_variables) if not problem.is_fixed(v)]
-    for _ in range(restarts):
-        for v in free:
-            x = best_X[v]
-            problem.set_value(v, x + rng.normal(0.0, 1.0, len(x)) * scale(x))
-        try:
-            r = problem.solve(**solve_kw)
-            cost = problem.cost()
-        except EvaluationError:  # the perturbation left the model's domain: skip it
-            r, cost = None, np.inf
+    starts = [_perturbed(x0, free, scale, seed, k) for k in range(restarts)]
+    if factory is not None:
+        if executor is not None:
+            futures = [executor.submit(_restart_fresh, factory, st, solve_kw) for st in starts]
+            outcomes = [f.result() for f in futures]
+        else:
+            outcomes = [_restart_fresh(factory, st, solve_kw) for st in starts]
+    else:
+        outcomes = [_restart(problem, st, solve_kw) for st in starts]
+    for cost, r, X in outcomes:
         costs.append(cost)
         if np.isfinite(cost) and cost < best_cost:
-            assert r is not None  # a solve that raised has cost inf
-            best_cost, best, best_X = cost, r, problem.X
+            assert r is not None and X is not None  # a solve that raised has cost inf
+            best_cost, best, best_X = cost, r, X
     for v in free:
         problem.set_value(v, best_X[v])
     return RestartResult(best, best_cost, costs)
