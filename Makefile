@@ -13,7 +13,7 @@ export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
 .PHONY: format demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
-.PHONY: docs
+.PHONY: docs wheel
 
 demo: install
 	$(VPY) examples/demo.py
@@ -64,6 +64,12 @@ lint: venv
 # builds it too, after py-test has installed the package.
 docs: install
 	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
+
+# A self-contained wheel in build/wheelhouse (scripts/build_wheel.sh: repaired
+# by auditwheel, one BLAS), then its test in a fresh venv (tests/python/test_wheel.py).
+wheel: venv
+	bash scripts/build_wheel.sh
+	BOXPLUS_TEST_WHEEL=1 $(VPY) -m pytest -q tests/python/test_wheel.py
 
 # clang-format (.clang-format: Google, 100 columns) over every C++ file.
 format:
