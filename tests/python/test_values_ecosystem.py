@@ -4,6 +4,7 @@ ids given as an int, and undetermined variables reported as such."""
 
 import copy
 import pickle
+from pathlib import Path
 
 import boxplus as bp
 import numpy as np
@@ -12,7 +13,7 @@ from boxplus import slam
 from conftest import se2, se3, so3
 from hypothesis import given, settings
 
-DATA = __import__("pathlib").Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def rot_z(a):
