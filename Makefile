@@ -13,6 +13,7 @@ export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
 .PHONY: format demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
+.PHONY: docs wheel
 
 demo: install
 	$(VPY) examples/demo.py
@@ -26,7 +27,7 @@ venv: deps
 	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
 	@$(VPY) -m pip install -q --disable-pip-version-check \
 	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
-	    "opencv-python-headless>=4.8,<5" ruff pybind11-stubgen mypy
+	    "opencv-python-headless>=4.8,<5" ruff pybind11-stubgen mypy sphinx tqdm
 	@# solve_many's cluster tests (Ray, Dask) and both BLAS thread controls
 	@$(VPY) -m pip install -q --disable-pip-version-check threadpoolctl "ray>=2.9" "dask[distributed]>=2023.1"
 
@@ -58,6 +59,19 @@ lint: venv
 	$(VPY) -m ruff check --no-cache python tests examples bench
 	$(VPY) -m mypy python/boxplus examples
 	clang-format --dry-run -Werror $(CXX_SOURCES)
+	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
+
+# The documentation site in build/docs (Sphinx autodoc over the installed
+# package, the tutorials of docs/tutorials); every warning is an error. `lint`
+# builds it too, after py-test has installed the package.
+docs: install
+	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
+
+# A self-contained wheel in build/wheelhouse (scripts/build_wheel.sh: repaired
+# by auditwheel, one BLAS), then its test in a fresh venv (tests/python/test_wheel.py).
+wheel: venv
+	bash scripts/build_wheel.sh
+	BOXPLUS_TEST_WHEEL=1 $(VPY) -m pytest -q tests/python/test_wheel.py
 
 # clang-format (.clang-format: Google, 100 columns) over every C++ file.
 format:

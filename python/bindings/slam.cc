@@ -12,6 +12,7 @@
 #include "boxplus/problem.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/slam/pose_graph.h"
+#include "native_log.h"
 #include "solve_from_python.h"
 
 namespace py = pybind11;
@@ -71,9 +72,37 @@ Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
   return out;
 }
 
+// "<name: N variables (k fixed, d free tangent dimensions), M measurements (r residuals)>"
+std::string DescribeProblem(const Problem& p, const std::string& name) {
+  int fixed = 0, free_dims = 0, residuals = 0;
+  for (int id = 0; id < p.num_variables(); ++id) {
+    if (p.IsFixed(id)) {
+      ++fixed;
+    } else {
+      free_dims += p.manifold(id).TangentSize();
+    }
+  }
+  for (int id = 0; id < p.num_measurements(); ++id) residuals += p.residual_size(id);
+  return "<" + name + ": " + std::to_string(p.num_variables()) + " variables (" +
+         std::to_string(fixed) + " fixed, " + std::to_string(free_dims) +
+         " free tangent dimensions), " + std::to_string(p.num_measurements()) + " measurements (" +
+         std::to_string(residuals) + " residuals)>";
+}
+
 }  // namespace
 
 void RegisterSlam(py::module_& m) {
+  // Registered with the last group of bindings (module.cc is shared): Ceres
+  // logs only inside solves, which cannot start before the module is loaded.
+  RegisterNativeLog(m);
+  // The repr of boxplus.Problem, bound in problem.cc: set here because this
+  // file is registered after it (module.cc) and shares the description with
+  // the pose graph's.
+  py::object problem_type = py::type::of<Problem>();
+  problem_type.attr("__repr__") =
+      py::cpp_function([](const Problem& p) { return DescribeProblem(p, "boxplus.Problem"); },
+                       py::name("__repr__"), py::is_method(problem_type));
+
   m.def(
       "pose_graph_solver_defaults",
       [] {
@@ -142,7 +171,7 @@ lifetime tied to this object; ``report`` the LoadReport.
 )doc")
       .def(py::init([](const std::string& path, const std::string& convention,
                        const std::string& robust, double robust_width, const std::string& init,
-                       bool skip_unknown, bool repair_information) {
+                       bool skip_unknown, bool repair_information, const py::object& progress) {
              slam::LoadOptions o;
              o.read.skip_unknown_tags = skip_unknown;
              o.read.repair_information = repair_information;
@@ -150,19 +179,55 @@ lifetime tied to this object; ``report`` the LoadReport.
              o.graph.robust = robust;
              o.graph.robust_width = robust_width;
              o.init = slam::ParseInitMethod(init);
+             if (!progress.is_none() && !PyCallable_Check(progress.ptr())) {
+               throw py::type_error("progress must be callable, got " +
+                                    std::string(py::str(py::type::of(progress).attr("__name__"))));
+             }
+             // The read runs without the GIL; every few thousand lines it takes
+             // it to let Ctrl-C stop the load and to call `progress`. A Python
+             // error there ends the read (StopRead) and is raised here.
+             struct StopRead {};
+             std::unique_ptr<py::error_already_set> error;
+             if (!progress.is_none()) o.read.progress_lines = 1 << 12;
+             o.read.on_progress = [&](const io::ReadProgress& rp) {
+               py::gil_scoped_acquire gil;
+               try {
+                 if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                 if (!progress.is_none()) progress(rp.lines, rp.bytes, rp.bytes_total);
+               } catch (py::error_already_set& e) {
+                 error = std::make_unique<py::error_already_set>(std::move(e));
+                 throw StopRead{};
+               }
+             };
              slam::LoadReport report;
              std::unique_ptr<PoseGraph> pg;
-             {
+             try {
                py::gil_scoped_release release;
                pg = slam::LoadPoseGraph(path, o, &report);
+             } catch (const StopRead&) {
+               throw std::move(*error);
              }
              pg->set_load_report(std::move(report));
              return pg;
            }),
            py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
            py::arg("robust_width") = 1.0, py::arg("init") = "file", py::arg("skip_unknown") = false,
-           py::arg("repair_information") = false,
-           "Reads a file and builds the problem (raises boxplus.ParseError naming file:line).")
+           py::arg("repair_information") = false, py::arg("progress") = py::none(),
+           "Reads a file and builds the problem (raises boxplus.ParseError naming file:line); "
+           "progress(lines, bytes_read, bytes_total), if given, is called every 4096 lines of "
+           "the read.")
+      .def("__repr__",
+           [](PoseGraph& pg) {
+             const auto& g = pg.graph();
+             int points = 0;
+             for (const auto& v : g.vertices) {
+               points += v.kind == io::VertexKind::kPoint2 || v.kind == io::VertexKind::kPoint3;
+             }
+             return "<PoseGraph " + std::to_string(g.dimension) +
+                    "D: " + std::to_string(g.vertices.size() - points) + " poses, " +
+                    std::to_string(points) + " landmarks, " + std::to_string(g.edges.size()) +
+                    " edges, convention '" + ToString(pg.options().convention) + "'>";
+           })
       .def_property_readonly("report", &PoseGraph::load_report,
                              py::return_value_policy::reference_internal,
                              "The LoadReport of the file.")

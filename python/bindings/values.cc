@@ -58,6 +58,51 @@ Eigen::VectorXd AsVector(const py::handle& obj, Eigen::Index n, const char* what
   return Eigen::Map<const Eigen::VectorXd>(a.data(), n);
 }
 
+// obj as a C-ordered float array, or null (not convertible).
+py::array_t<double, py::array::c_style | py::array::forcecast> AsArray(const py::handle& obj) {
+  try {
+    return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  } catch (const py::error_already_set&) {
+    return {};
+  }
+}
+
+// A square matrix of size n from a, which has that shape.
+template <int N>
+Eigen::Matrix<double, N, N> SquareMatrix(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& a) {
+  return Eigen::Map<const Eigen::Matrix<double, N, N, Eigen::RowMajor>>(a.data());
+}
+
+bool HasShape(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+              std::initializer_list<py::ssize_t> shape) {
+  if (!a || a.ndim() != static_cast<py::ssize_t>(shape.size())) return false;
+  py::ssize_t i = 0;
+  for (py::ssize_t n : shape) {
+    if (a.shape(i++) != n) return false;
+  }
+  return true;
+}
+
+std::string ShapeOf(const py::handle& obj) {
+  const auto a = AsArray(obj);
+  if (!a) return "a " + std::string(py::str(py::type::of(obj).attr("__name__")));
+  std::string s = "shape (";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+// A rotation from an SO3, a 3×3 matrix or a quaternion [x, y, z, w].
+SO3 RotationFrom(const py::handle& obj, const char* who) {
+  if (py::isinstance<SO3>(obj)) return obj.cast<SO3>();
+  const auto a = AsArray(obj);
+  if (HasShape(a, {3, 3})) return SO3::FromMatrix(SquareMatrix<3>(a));
+  if (HasShape(a, {4})) return SO3::FromQuaternion(Eigen::Map<const Eigen::Vector4d>(a.data()));
+  throw py::type_error(std::string(who) +
+                       ": a rotation is an SO3, a 3x3 matrix or a quaternion [x, y, z, w], got " +
+                       ShapeOf(obj));
+}
+
 // p of shape (d,) → (d,); (N, d) → (N, d), each row mapped by f.
 template <int D, class F>
 py::array_t<double> MapPoints(
@@ -91,6 +136,110 @@ std::string Fmt(const Eigen::VectorXd& v) {
   for (Eigen::Index i = 0; i < v.size(); ++i) s << (i ? ", " : "") << v[i];
   s << "]";
   return s.str();
+}
+
+// The storage vector of a value (Rn keeps no separate ambient).
+template <class T>
+Eigen::VectorXd AmbientOf(const T& x) {
+  return Eigen::VectorXd(x.ambient());
+}
+Eigen::VectorXd AmbientOf(const Rn& x) { return x.vec(); }
+
+// q and −q are one rotation: the sign is fixed so that the first non-zero of
+// (w, x, y, z) is positive, which makes == and hash() agree for both signs.
+void CanonicalQuaternion(double* q) {
+  const double lead = q[3] != 0.0 ? q[3] : q[0] != 0.0 ? q[0] : q[1] != 0.0 ? q[1] : q[2];
+  if (lead < 0.0) {
+    for (int i = 0; i < 4; ++i) q[i] = -q[i];
+  }
+}
+
+// The ambient vector with one representative per value (== and hash()).
+template <class T>
+Eigen::VectorXd CanonicalAmbient(const T& x) {
+  return AmbientOf(x);
+}
+Eigen::VectorXd CanonicalAmbient(const SO3& x) {
+  Eigen::VectorXd a = AmbientOf(x);
+  CanonicalQuaternion(a.data());
+  return a;
+}
+Eigen::VectorXd CanonicalAmbient(const SE3& x) {
+  Eigen::VectorXd a = AmbientOf(x);
+  CanonicalQuaternion(a.data() + 3);
+  return a;
+}
+
+// ==, hash(), isclose and numpy's __array__, shared by all kinds (Rn too).
+// Values are immutable from Python (no setter is bound), so they are hashable
+// and equal values hash alike: == compares the stored numbers exactly, with a
+// quaternion and its negative equal; isclose compares y ⊟ x with a tolerance.
+template <class T, class Cls>
+void BindValueProtocol(Cls& cls, const char* kind) {
+  cls.def(
+         "__eq__",
+         [](const T& a, const py::object& b) -> py::object {
+           if (!py::isinstance<T>(b)) return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+           const T& other = b.cast<const T&>();
+           const Eigen::VectorXd x = CanonicalAmbient(a), y = CanonicalAmbient(other);
+           return py::bool_(x.size() == y.size() && x == y);
+         },
+         py::arg("other"))
+      .def("__hash__",
+           [](const T& a) {
+             const Eigen::VectorXd x = CanonicalAmbient(a);
+             py::tuple t(x.size() + 1);
+             t[0] = py::str(py::type::of(py::cast(a)).attr("__name__"));
+             for (Eigen::Index i = 0; i < x.size(); ++i) t[i + 1] = py::float_(x[i]);
+             return py::hash(t);
+           })
+      .def(
+          "isclose",
+          [kind](const T& a, const py::object& b, double atol) {
+            if (!py::isinstance<T>(b)) {
+              throw py::type_error(std::string(kind) + ".isclose(other): other must be a " + kind +
+                                   ", got " +
+                                   std::string(py::str(py::type::of(b).attr("__name__"))));
+            }
+            if (!(atol >= 0.0)) throw py::value_error("isclose: atol must be >= 0");
+            const T& other = b.cast<const T&>();
+            const Eigen::VectorXd x = CanonicalAmbient(a), y = CanonicalAmbient(other);
+            if (x.size() != y.size()) return false;
+            // Equal values are close at any tolerance, also where x ⊟ x rounds to a
+            // few ulps (a quaternion a hair off unit length).
+            if (x == y) return true;
+            const Eigen::VectorXd d = a.boxminus(other);
+            return d.size() == 0 || d.cwiseAbs().maxCoeff() <= atol;
+          },
+          py::arg("other"), py::arg("atol") = 1e-9, R"doc(
+Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+
+Parameters
+----------
+other : same type as self
+atol : float
+    Tolerance in the tangent's units (radians for rotations, the position's
+    units for translations).
+
+Returns
+-------
+bool
+)doc")
+      .def(
+          "__array__",
+          [](const T& a, const py::object& dtype, const py::object& copy) {
+            if (!copy.is_none() && !copy.cast<bool>()) {
+              throw py::value_error(
+                  "a copy of the ambient vector is always made: copy=False is impossible");
+            }
+            const Eigen::VectorXd x = AmbientOf(a);
+            py::array_t<double> out(x.size());
+            std::copy(x.data(), x.data() + x.size(), out.mutable_data());
+            if (dtype.is_none()) return py::object(out);
+            return out.attr("astype")(dtype);
+          },
+          py::arg("dtype") = py::none(), py::arg("copy") = py::none(),
+          "The ambient vector as a new float array (numpy.asarray(x)).");
 }
 
 // ⊞, ⊟, dof, ambient, pickling and the manifold handle, shared by all kinds.
@@ -154,9 +303,12 @@ void RegisterValues(py::module_& m) {
   py::class_<SO2> so2(m, "SO2", R"doc(
 Planar rotation by an angle φ (radians), kept in [-π, π).
 
+Construct with SO2(phi) or SO2(R) (2×2 rotation matrix).
+
 x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
 )doc");
   so2.def(py::init<double>(), py::arg("phi") = 0.0)
+      .def(py::init([](const Eigen::Matrix2d& R) { return SO2::FromMatrix(R); }), py::arg("R"))
       .def_static("from_matrix", &SO2::FromMatrix, py::arg("R"))
       .def_property_readonly("phi", &SO2::angle, "The angle in radians.")
       .def_property_readonly("R", &SO2::matrix, "2×2 rotation matrix.")
@@ -170,17 +322,18 @@ x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
       .def("__repr__", [](const SO2& a) { return "SO2(phi=" + std::to_string(a.angle()) + ")"; });
   so2.attr("__matmul__") = so2.attr("__mul__");
   BindCommon<SO2>(so2, "SO2");
+  BindValueProtocol<SO2>(so2, "SO2");
 
   // ---- SO3 ------------------------------------------------------------------
   py::class_<SO3> so3(m, "SO3", R"doc(
 3D rotation, stored as a unit quaternion [x, y, z, w].
 
-x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), |y - x| ≤ π.
-Construct with SO3() (identity), SO3(R) (3×3 matrix), SO3.from_quat([x, y, z, w])
-or SO3.exp(rotation_vector).
+x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), ‖y - x‖ ≤ π.
+Construct with SO3() (identity), SO3(R) (R a 3×3 rotation matrix, a quaternion
+[x, y, z, w] or an SO3), SO3.from_quat([x, y, z, w]) or SO3.exp(rotation_vector).
 )doc");
   so3.def(py::init<>())
-      .def(py::init([](const Eigen::Matrix3d& R) { return SO3::FromMatrix(R); }), py::arg("R"))
+      .def(py::init([](const py::object& R) { return RotationFrom(R, "SO3(R)"); }), py::arg("R"))
       .def_static("from_matrix", &SO3::FromMatrix, py::arg("R"))
       .def_static(
           "from_quat",
@@ -188,8 +341,8 @@ or SO3.exp(rotation_vector).
           py::arg("q"), "From a quaternion [x, y, z, w] (normalised).")
       .def_static(
           "exp", [](const py::object& w) { return SO3::Exp(AsVector(w, 3, "SO3.exp")); },
-          py::arg("w"), "Rotation by |w| about w/|w|.")
-      .def("log", &SO3::Log, "Rotation vector, |log| ≤ π.")
+          py::arg("w"), "Rotation by ‖w‖ about w/‖w‖.")
+      .def("log", &SO3::Log, "Rotation vector, ‖log‖ ≤ π.")
       .def_property_readonly("R", &SO3::matrix, "3×3 rotation matrix.")
       .def_property_readonly("Q", &SO3::matrix, "3×3 rotation matrix (MTKM's name).")
       .def_property_readonly("quat", &SO3::quat, "Unit quaternion [x, y, z, w].")
@@ -203,14 +356,28 @@ or SO3.exp(rotation_vector).
       .def("__repr__", [](const SO3& a) { return "SO3(quat=" + Fmt(a.quat()) + ")"; });
   so3.attr("__matmul__") = so3.attr("__mul__");
   BindCommon<SO3>(so3, "SO3");
+  BindValueProtocol<SO3>(so3, "SO3");
 
   // ---- SE2 ------------------------------------------------------------------
   py::class_<SE2> se2(m, "SE2", R"doc(
 Planar pose (position p, angle φ) = R² × SO(2), mapping local to parent.
 
-Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
+Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)). Construct with
+SE2() (identity), SE2(x, y, theta), SE2([x, y, theta]) (the ambient vector),
+SE2(T) (3×3 homogeneous matrix), SE2(pos, phi) or SE2(pos, rot) (rot an SO2).
 )doc");
   se2.def(py::init<>())
+      .def(py::init(
+               [](double x, double y, double theta) { return SE2(Eigen::Vector2d(x, y), theta); }),
+           py::arg("x"), py::arg("y"), py::arg("theta"))
+      .def(py::init([](const py::object& v) {
+             const auto a = AsArray(v);
+             if (HasShape(a, {3})) return SE2::FromAmbient(a.data());
+             if (HasShape(a, {3, 3})) return SE2::FromMatrix(SquareMatrix<3>(a));
+             throw py::type_error(
+                 "SE2(v): v must be [x, y, theta] or a 3x3 homogeneous matrix, got " + ShapeOf(v));
+           }),
+           py::arg("v"))
       .def(py::init([](const Eigen::Vector2d& pos, double phi) { return SE2(pos, phi); }),
            py::arg("pos"), py::arg("phi"))
       .def(py::init([](const Eigen::Vector2d& pos, const SO2& r) { return SE2(pos, r); }),
@@ -252,21 +419,31 @@ Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
       });
   se2.attr("__matmul__") = se2.attr("__mul__");
   BindCommon<SE2>(se2, "SE2");
+  BindValueProtocol<SE2>(se2, "SE2");
 
   // ---- SE3 ------------------------------------------------------------------
   py::class_<SE3> se3(m, "SE3", R"doc(
 Rigid transform (rotation R, position p) = R³ × SO(3), mapping local to parent.
 
 Tangent order [δp (3), δθ (3)]: x + δ = (p + δp, R·exp(δθ)). Construct with
-SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
+SE3() (identity), SE3(R, t) or SE3(R=..., t=...) (R a 3×3 rotation matrix, a
+quaternion [x, y, z, w] or an SO3; either may be left out: identity rotation,
+zero translation), SE3(T) (4×4 homogeneous matrix), SE3([px, py, pz, qx, qy, qz,
+qw]) (the ambient vector) or SE3.from_matrix(T).
 )doc");
   se3.def(py::init<>())
-      .def(py::init([](const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
-             return SE3(SO3::FromMatrix(R), t);
+      .def(py::init([](const py::object& R, const py::object& t) {
+             if (t.is_none() && !R.is_none() && !py::isinstance<SO3>(R)) {
+               const auto a = AsArray(R);
+               if (HasShape(a, {4, 4})) return SE3::FromMatrix(SquareMatrix<4>(a));
+               if (HasShape(a, {7})) return SE3::FromAmbient(a.data());
+             }
+             const SO3 rot = R.is_none() ? SO3() : RotationFrom(R, "SE3(R, t)");
+             const Eigen::Vector3d pos =
+                 t.is_none() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(AsVector(t, 3, "SE3 t"));
+             return SE3(rot, pos);
            }),
-           py::arg("R"), py::arg("t"))
-      .def(py::init([](const SO3& R, const Eigen::Vector3d& t) { return SE3(R, t); }), py::arg("R"),
-           py::arg("t"))
+           py::arg("R") = py::none(), py::arg("t") = py::none())
       .def_static("from_matrix", &SE3::FromMatrix, py::arg("T"))
       .def_static(
           "exp", [](const py::object& d) { return SE3::Exp(AsVector(d, 6, "SE3.exp")); },
@@ -308,13 +485,14 @@ SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
       });
   se3.attr("__matmul__") = se3.attr("__mul__");
   BindCommon<SE3>(se3, "SE3");
+  BindValueProtocol<SE3>(se3, "SE3");
 
   // ---- S2 -------------------------------------------------------------------
   py::class_<S2> s2(m, "S2", R"doc(
 Unit 3-vector (a direction), 2 DOF.
 
-x + δ = cos|δ| x + sinc|δ| B δ, with B = tangent_basis() (3×2, orthonormal,
-orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
+x + δ = cos‖δ‖ x + sinc‖δ‖ B δ, with B = tangent_basis() (3×2, orthonormal,
+orthogonal to x); y - x ∈ R², ‖y - x‖ = angle between x and y.
 )doc");
   s2.def(py::init<>())
       .def(py::init([](const py::object& v) { return S2(AsVector(v, 3, "S2")); }), py::arg("v"))
@@ -322,6 +500,7 @@ orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
       .def("tangent_basis", &S2::tangent_basis)
       .def("__repr__", [](const S2& a) { return "S2(" + Fmt(a.vec()) + ")"; });
   BindCommon<S2>(s2, "S2");
+  BindValueProtocol<S2>(s2, "S2");
 
   // ---- Rn -------------------------------------------------------------------
   py::class_<Rn> rn(m, "Rn", R"doc(
@@ -367,6 +546,7 @@ A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
       .def(py::pickle([](const Rn& x) { return py::make_tuple(x.vec()); },
                       [](const py::tuple& t) { return Rn(t[0].cast<Eigen::VectorXd>()); }))
       .def("__repr__", [](const Rn& x) { return "Rn(" + Fmt(x.vec()) + ")"; });
+  BindValueProtocol<Rn>(rn, "Rn");
 }
 
 }  // namespace boxplus::python

@@ -397,6 +397,8 @@ class SO2:
     """
     Planar rotation by an angle φ (radians), kept in [-π, π).
     
+    Construct with SO2(phi) or SO2(R) (2×2 rotation matrix).
+    
     x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
     """
     dof: typing.ClassVar[int] = 1
@@ -423,13 +425,25 @@ class SO2:
         """
     def __add__(self, delta: typing.Any) -> SO2:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> SO2:
         ...
     def __deepcopy__(self, memo: dict) -> SO2:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
         ...
+    def __hash__(self) -> int:
+        ...
+    @typing.overload
     def __init__(self, phi: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> None:
+        ...
+    @typing.overload
+    def __init__(self, R: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 2]"]) -> None:
         ...
     def __len__(self) -> int:
         ...
@@ -453,6 +467,21 @@ class SO2:
         ...
     def inverse(self) -> SO2:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     @property
     def R(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[2, 2]"]:
         """
@@ -472,9 +501,9 @@ class SO3:
     """
     3D rotation, stored as a unit quaternion [x, y, z, w].
     
-    x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), |y - x| ≤ π.
-    Construct with SO3() (identity), SO3(R) (3×3 matrix), SO3.from_quat([x, y, z, w])
-    or SO3.exp(rotation_vector).
+    x + δ = x·exp(δ) (δ ∈ R³, body frame);  y - x = log(x⁻¹y), ‖y - x‖ ≤ π.
+    Construct with SO3() (identity), SO3(R) (R a 3×3 rotation matrix, a quaternion
+    [x, y, z, w] or an SO3), SO3.from_quat([x, y, z, w]) or SO3.exp(rotation_vector).
     """
     dof: typing.ClassVar[int] = 3
     @staticmethod
@@ -490,7 +519,7 @@ class SO3:
     @staticmethod
     def exp(w: typing.Any) -> SO3:
         """
-        Rotation by |w| about w/|w|.
+        Rotation by ‖w‖ about w/‖w‖.
         """
     @staticmethod
     def from_ambient(a: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> SO3:
@@ -515,17 +544,25 @@ class SO3:
         """
     def __add__(self, delta: typing.Any) -> SO3:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> SO3:
         ...
     def __deepcopy__(self, memo: dict) -> SO3:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        ...
+    def __hash__(self) -> int:
         ...
     @typing.overload
     def __init__(self) -> None:
         ...
     @typing.overload
-    def __init__(self, R: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"]) -> None:
+    def __init__(self, R: typing.Any) -> None:
         ...
     def __len__(self) -> int:
         ...
@@ -553,9 +590,24 @@ class SO3:
         ...
     def inverse(self) -> SO3:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     def log(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]:
         """
-        Rotation vector, |log| ≤ π.
+        Rotation vector, ‖log‖ ≤ π.
         """
     @property
     def Q(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 3]"]:
@@ -581,7 +633,9 @@ class SE2:
     """
     Planar pose (position p, angle φ) = R² × SO(2), mapping local to parent.
     
-    Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)).
+    Tangent order [δx, δy, δφ]: x + δ = (p + δp, wrap(φ + δφ)). Construct with
+    SE2() (identity), SE2(x, y, theta), SE2([x, y, theta]) (the ambient vector),
+    SE2(T) (3×3 homogeneous matrix), SE2(pos, phi) or SE2(pos, rot) (rot an SO2).
     """
     dof: typing.ClassVar[int] = 3
     @staticmethod
@@ -612,14 +666,28 @@ class SE2:
         """
     def __add__(self, delta: typing.Any) -> SE2:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> SE2:
         ...
     def __deepcopy__(self, memo: dict) -> SE2:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        ...
+    def __hash__(self) -> int:
         ...
     @typing.overload
     def __init__(self) -> None:
+        ...
+    @typing.overload
+    def __init__(self, x: typing.SupportsFloat | typing.SupportsIndex, y: typing.SupportsFloat | typing.SupportsIndex, theta: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @typing.overload
+    def __init__(self, v: typing.Any) -> None:
         ...
     @typing.overload
     def __init__(self, pos: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], phi: typing.SupportsFloat | typing.SupportsIndex) -> None:
@@ -653,6 +721,21 @@ class SE2:
         """
     def inverse(self) -> SE2:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     def log(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         x ⊟ identity.
@@ -687,7 +770,10 @@ class SE3:
     Rigid transform (rotation R, position p) = R³ × SO(3), mapping local to parent.
     
     Tangent order [δp (3), δθ (3)]: x + δ = (p + δp, R·exp(δθ)). Construct with
-    SE3() (identity), SE3(R, t) (R a 3×3 matrix or an SO3) or SE3.from_matrix(T).
+    SE3() (identity), SE3(R, t) or SE3(R=..., t=...) (R a 3×3 rotation matrix, a
+    quaternion [x, y, z, w] or an SO3; either may be left out: identity rotation,
+    zero translation), SE3(T) (4×4 homogeneous matrix), SE3([px, py, pz, qx, qy, qz,
+    qw]) (the ambient vector) or SE3.from_matrix(T).
     """
     dof: typing.ClassVar[int] = 6
     @staticmethod
@@ -718,20 +804,25 @@ class SE3:
         """
     def __add__(self, delta: typing.Any) -> SE3:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> SE3:
         ...
     def __deepcopy__(self, memo: dict) -> SE3:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        ...
+    def __hash__(self) -> int:
         ...
     @typing.overload
     def __init__(self) -> None:
         ...
     @typing.overload
-    def __init__(self, R: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 3]"], t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
-        ...
-    @typing.overload
-    def __init__(self, R: SO3, t: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> None:
+    def __init__(self, R: typing.Any = None, t: typing.Any = None) -> None:
         ...
     def __len__(self) -> int:
         ...
@@ -759,6 +850,21 @@ class SE3:
         """
     def inverse(self) -> SE3:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     def log(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         x ⊟ identity = [p, log R].
@@ -808,8 +914,8 @@ class S2:
     """
     Unit 3-vector (a direction), 2 DOF.
     
-    x + δ = cos|δ| x + sinc|δ| B δ, with B = tangent_basis() (3×2, orthonormal,
-    orthogonal to x); y - x ∈ R², |y - x| = angle between x and y.
+    x + δ = cos‖δ‖ x + sinc‖δ‖ B δ, with B = tangent_basis() (3×2, orthonormal,
+    orthogonal to x); y - x ∈ R², ‖y - x‖ = angle between x and y.
     """
     dof: typing.ClassVar[int] = 2
     @staticmethod
@@ -822,11 +928,19 @@ class S2:
         """
     def __add__(self, delta: typing.Any) -> S2:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> S2:
         ...
     def __deepcopy__(self, memo: dict) -> S2:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        ...
+    def __hash__(self) -> int:
         ...
     @typing.overload
     def __init__(self) -> None:
@@ -848,6 +962,21 @@ class S2:
         ...
     def copy(self) -> S2:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     def tangent_basis(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 2]"]:
         ...
     @property
@@ -866,11 +995,19 @@ class Rn:
     """
     def __add__(self, arg0: typing.Any) -> Rn:
         ...
+    def __array__(self, dtype: typing.Any = None, copy: typing.Any = None) -> typing.Any:
+        """
+        The ambient vector as a new float array (numpy.asarray(x)).
+        """
     def __copy__(self) -> Rn:
         ...
     def __deepcopy__(self, memo: dict) -> Rn:
         ...
+    def __eq__(self, other: typing.Any) -> typing.Any:
+        ...
     def __getstate__(self) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]]:
+        ...
+    def __hash__(self) -> int:
         ...
     def __init__(self, v: typing.Any) -> None:
         ...
@@ -888,6 +1025,21 @@ class Rn:
         ...
     def copy(self) -> Rn:
         ...
+    def isclose(self, other: typing.Any, atol: typing.SupportsFloat | typing.SupportsIndex = 1e-09) -> bool:
+        """
+        Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+        
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units (radians for rotations, the position's
+            units for translations).
+        
+        Returns
+        -------
+        bool
+        """
     def manifold(self) -> Manifold:
         ...
     @property
@@ -905,6 +1057,8 @@ class Problem:
     The public, friendlier front is boxplus.OptimizationProblem.
     """
     def __init__(self) -> None:
+        ...
+    def __repr__(self) -> str:
         ...
     def add_cached_measurement(self, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], loss: Loss | None = None, name: str = '') -> int:
         ...
@@ -1115,10 +1269,12 @@ class PoseGraph:
     underlying ``boxplus.Problem`` (extend it, fix variables, solve it), its
     lifetime tied to this object; ``report`` the LoadReport.
     """
-    def __init__(self, path: str, convention: str = 'g2o', robust: str = 'none', robust_width: typing.SupportsFloat | typing.SupportsIndex = 1.0, init: str = 'file', skip_unknown: bool = False, repair_information: bool = False) -> None:
+    def __init__(self, path: str, convention: str = 'g2o', robust: str = 'none', robust_width: typing.SupportsFloat | typing.SupportsIndex = 1.0, init: str = 'file', skip_unknown: bool = False, repair_information: bool = False, progress: typing.Any = None) -> None:
         """
-        Reads a file and builds the problem (raises boxplus.ParseError naming file:line).
+        Reads a file and builds the problem (raises boxplus.ParseError naming file:line); progress(lines, bytes_read, bytes_total), if given, is called every 4096 lines of the read.
         """
+    def __repr__(self) -> str:
+        ...
     def add_edge(self, kind: str, from_id: typing.SupportsInt | typing.SupportsIndex, to_id: typing.SupportsInt | typing.SupportsIndex, measurement: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], information: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, n]"]) -> int:
         """
         Adds an edge to the graph (saved with it) and the problem; returns the
@@ -1199,6 +1355,18 @@ class PoseGraph:
     @property
     def vertex_ids(self) -> list[int]:
         ...
+def _native_log_drain() -> list:
+    """
+    The queued glog messages of Ceres as (severity, file, line, message); severity 0 INFO, 1 WARNING, 2 ERROR, 3 FATAL. Used by boxplus.log.
+    """
+def _native_log_dropped() -> int:
+    """
+    How many glog messages the full queue has dropped.
+    """
+def _native_log_emit(severity: typing.SupportsInt | typing.SupportsIndex, message: str) -> None:
+    """
+    Logs one glog message from C++, as Ceres does (for the tests of the routing).
+    """
 def camera_model_size(model: str) -> int:
     """
     Number of intrinsic parameters of a camera model.

@@ -115,6 +115,33 @@ class ManifoldValue(abc.ABC):
             )
         return np.asarray(self.boxminus(other), dtype=float)
 
+    def isclose(self, other: Any, atol: float = 1e-9) -> bool:
+        """Whether every coordinate of ``self ⊟ other`` is at most ``atol`` in magnitude.
+
+        Parameters
+        ----------
+        other : same type as self
+        atol : float
+            Tolerance in the tangent's units.
+
+        Returns
+        -------
+        bool
+        """
+        if not atol >= 0:
+            raise ValueError("isclose: atol must be >= 0")
+        if type(other) is type(self) and self == other:
+            return True  # also where x ⊟ x rounds to a few ulps
+        d = self - other
+        return bool(d.size == 0 or np.max(np.abs(d)) <= atol)
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> np.ndarray:
+        """The ambient vector as a new float array (``numpy.asarray(x)``)."""
+        if copy is False:
+            raise ValueError("a copy of the ambient vector is always made: copy=False is impossible")
+        a = np.array(self.to_ambient(), dtype=float)
+        return a if dtype is None else a.astype(dtype)
+
 
 # --------------------------------------------------------------------------------------
 # Codecs: how a value type is stored by the solver
@@ -169,7 +196,7 @@ class Codec:
 
     def tangent_scale(self, X: np.ndarray) -> np.ndarray:
         """Magnitudes (N, dof) of the values in the rows of X (N, ambient size),
-        per tangent direction, that size finite-difference steps: max(1, |x|)
+        per tangent direction, that size finite-difference steps: max(1, abs(x))
         for Rⁿ coordinates, member by member for compounds, 1 for directions of
         rotation-like kinds (their tangent is already scale-free)."""
         return np.ones((X.shape[0], self.dof))
@@ -433,6 +460,15 @@ class _CompoundBase(ManifoldValue):
     def __repr__(self) -> str:
         inner = ", ".join(f"{n}={getattr(self, n)!r}" for n in self._members)
         return f"{type(self).__name__}({inner})"
+
+    def __eq__(self, other: object) -> bool:
+        """Same compound type and every member equal (members compare by value)."""
+        if type(other) is not type(self):
+            return NotImplemented
+        return all(getattr(self, n) == getattr(other, n) for n in self._members)
+
+    # Members can be reassigned (mutable), so compounds are not hashable.
+    __hash__ = None  # type: ignore[assignment]
 
     def __reduce__(self):
         return (_rebuild_compound, (type(self), self.to_ambient()))

@@ -71,6 +71,20 @@ class OptimizationProblem(CalibrationFactors):
         self._touched: set[int] = set()  # variables some measurement depends on
         self._touched_upto = 0  # measurements already counted in _touched
 
+    def __repr__(self) -> str:
+        def counts(names: Sequence[str]) -> str:
+            tally: dict[str, int] = {}
+            for k in names:
+                tally[k] = tally.get(k, 0) + 1
+            return ", ".join(f"{k} x{n}" for k, n in tally.items())
+
+        fixed = sum(self._core.is_fixed(i) for i in range(len(self._codecs)))
+        var = counts([c.name for c in self._codecs]) + (f"; {fixed} fixed" if fixed else "")
+        meas = counts([self._meas_group[m] for m in sorted(self._meas_group)])
+        return (f"<OptimizationProblem: {len(self._codecs)} variables"
+                + (f" ({var})" if var else "") + f", {self.num_measurements} measurements"
+                + (f" ({meas})" if meas else "") + ">")
+
     # ---- variables -------------------------------------------------------------------
     def add_random_var(
         self, value: Any, fixed: bool = False, name: str | None = None,

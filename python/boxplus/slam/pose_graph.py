@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import logging
+import os
+import warnings
 from os import PathLike
 from typing import Any, Callable, SupportsIndex, SupportsInt, Union
 
@@ -10,6 +13,7 @@ import numpy as np
 from boxplus import _core, solver
 from boxplus._core import pose_graph_implausible_chi2_per_dof as IMPLAUSIBLE_CHI2_PER_DOF
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
+from boxplus.log import LoadProgress, Progress, flush_native, log_summary, logger
 
 __all__ = ["IMPLAUSIBLE_CHI2_PER_DOF", "SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o"]
 
@@ -43,9 +47,9 @@ class PoseGraph(_core.PoseGraph):
     """
 
     @classmethod
-    def load(cls, path: PathType, **options) -> PoseGraph:
+    def load(cls, path: PathType, progress: Any = False, **options: Any) -> PoseGraph:
         """Reads, initialises and builds a graph (:func:`load_g2o`'s keywords)."""
-        return cls(str(path), **options)
+        return _load(cls, path, progress, options, stacklevel=3)
 
     # -- structure ----------------------------------------------------------
     def value(self, vertex_id: int) -> np.ndarray:
@@ -96,6 +100,7 @@ class PoseGraph(_core.PoseGraph):
         options: _core.SolverOptions | None = None,
         callback: Callable[[_core.IterationInfo], Any] | None = None,
         verbose: bool = False,
+        progress: bool = False,
         **overrides: Any,
     ) -> _core.SolveSummary:
         """Solves in place (the C++ solver, GIL released); returns a SolveSummary.
@@ -110,12 +115,27 @@ class PoseGraph(_core.PoseGraph):
         fields (λI damping, no Jacobi scaling, up to 5 nonmonotonic steps) are
         those ``method='lm'`` then uses.
         ``summary.final_chi2`` is the objective (Σ ρ(eᵀΩe)).
+
+        ``progress=True`` shows a tqdm bar of the iterations (nothing without
+        tqdm). The summary is logged at INFO on the ``boxplus`` logger, each
+        iteration at DEBUG (:mod:`boxplus.log`).
         """
         if options is None:
             overrides = {**SOLVER_DEFAULTS, **overrides}
-        # The C++ PoseGraph.solve (from a second start too when the solution is
-        # implausible; boxplus::slam::PoseGraph::Solve).
-        return solver.run(super(), options, callback, verbose, **overrides)
+        total = overrides.get("max_iterations", getattr(options, "max_iterations", None))
+        # Per-iteration lines at DEBUG on the boxplus logger, and the bar.
+        log = logger if logger.isEnabledFor(logging.DEBUG) else None
+        with Progress(log=log, level=logging.DEBUG, bar=bool(progress), total=total,
+                      callback=callback) as report:
+            cb = report if (log is not None or report.has_bar) else callback
+            # The C++ PoseGraph.solve (from a second start too when the solution is
+            # implausible; boxplus::slam::PoseGraph::Solve).
+            try:
+                summary = solver.run(super(), options, cb, verbose, **overrides)
+            finally:
+                flush_native()
+        log_summary(summary, "pose graph solve")
+        return summary
 
     def chi2(self, convention: str | None = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log', 'compound' or 'sesync'; default: the graph's)."""
@@ -129,11 +149,12 @@ class PoseGraph(_core.PoseGraph):
         """Writes the graph with the current estimates; ids, order and tags kept."""
         self.save(str(path))
 
-    def plot(self, path: PathType, before: np.ndarray | None = None, title: str = "") -> None:
-        """PNG of the trajectory (see :func:`boxplus.slam.plot_trajectory`)."""
+    def plot(self, path: PathType | None = None, before: np.ndarray | None = None,
+             title: str = "", ax: Any = None, unit: str = "m") -> Any:
+        """Plots the trajectory; returns the Figure (see :func:`boxplus.slam.plot_trajectory`)."""
         from .plot import plot_trajectory
 
-        plot_trajectory(self, path, before=before, title=title)
+        return plot_trajectory(self, path, before=before, title=title, ax=ax, unit=unit)
 
 
 def load_g2o(
@@ -145,6 +166,7 @@ def load_g2o(
     init: str = "file",
     skip_unknown: bool = False,
     repair_information: bool = False,
+    progress: Any = False,
 ) -> PoseGraph:
     """Reads a g2o or TORO file and builds its problem in C++.
 
@@ -170,25 +192,48 @@ def load_g2o(
     repair_information : bool
         Replace information matrices that are not positive definite by the
         nearest positive-definite one (counted, with a warning).
+    progress : bool or callable
+        True: a tqdm bar of the bytes read (nothing without tqdm); a callable:
+        ``progress(lines, bytes_read, bytes_total)`` every 4096 lines.
+
+    Returns
+    -------
+    PoseGraph
+        The graph. The load is reported at INFO on the ``boxplus`` logger, its
+        warnings at WARNING there and as a Python ``UserWarning``
+        (:mod:`boxplus.log`).
 
     Raises
     ------
     boxplus.ParseError
         Malformed input; the message names the file and the line.
     """
-    import warnings
+    options = dict(convention=convention, robust=robust, robust_width=robust_width, init=init,
+                   skip_unknown=skip_unknown, repair_information=repair_information)
+    return _load(PoseGraph, path, progress, options, stacklevel=3)
 
-    graph = PoseGraph(
-        str(path),
-        convention=convention,
-        robust=robust,
-        robust_width=robust_width,
-        init=init,
-        skip_unknown=skip_unknown,
-        repair_information=repair_information,
-    )
-    if graph.report.warnings:
-        warnings.warn(graph.report.warnings.strip(), stacklevel=2)
+
+def _load(cls: type[PoseGraph], path: PathType, progress: Any, options: dict[str, Any],
+          stacklevel: int) -> PoseGraph:
+    """Builds ``cls`` from a file, with a progress bar or callback, and reports
+    the load on the ``boxplus`` logger (warnings also as Python warnings, at
+    ``stacklevel``: the caller of the public function)."""
+    if progress is True:
+        with LoadProgress(os.path.basename(str(path))) as bar:
+            graph = cls(str(path), progress=bar, **options)
+    else:
+        graph = cls(str(path), progress=progress or None, **options)
+    flush_native()
+    r = graph.report
+    if logger.isEnabledFor(logging.INFO):
+        logger.info(
+            "%s: %d lines, %d %dD poses, %d landmarks, %d edges, start '%s' (read %.3f s, "
+            "initialise %.3f s, build %.3f s)", path, r.lines, len(graph.poses()), graph.dimension,
+            len(graph.landmarks()), graph.num_edges, r.start, r.read_s, r.init_s, r.build_s)
+    if r.warnings:
+        for line in r.warnings.strip().splitlines():
+            logger.warning("%s", line)
+        warnings.warn(r.warnings.strip(), stacklevel=stacklevel)
     return graph
 
 

@@ -1,0 +1,42 @@
+"""Sphinx configuration of the boxplus documentation (``make docs``).
+
+The API pages are autodoc over the installed package (the extension must be
+built: ``make install``); docstrings are NumPy style (napoleon). The built-in
+"alabaster" theme keeps the build small. ``make docs`` runs with ``-W``:
+every warning is an error.
+"""
+
+import boxplus
+
+project = "boxplus"
+author = "the boxplus authors"
+copyright = "the boxplus authors"
+version = release = boxplus.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+]
+exclude_patterns = ["_build"]
+html_theme = "alabaster"
+html_static_path: list = []
+html_title = f"boxplus {release}"
+
+# Members are listed per directive in api/*.rst (a module's re-exports would
+# otherwise be documented twice).
+autodoc_default_options = {"show-inheritance": True}
+autodoc_member_order = "bysource"
+# Signatures as written; the pybind11 classes carry their own in the docstrings.
+autodoc_typehints = "signature"
+napoleon_numpy_docstring = True
+napoleon_google_docstring = False
+napoleon_use_rtype = False
+# "Attributes" sections as fields, not directives: a documented attribute that
+# is also a bound property would be described twice.
+napoleon_use_ivar = True
+# The NumPy-style "x : array_like" would otherwise become cross-references
+# that cannot resolve (array_like, callable, optional, ...).
+napoleon_preprocess_types = False
+nitpicky = False
