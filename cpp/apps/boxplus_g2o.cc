@@ -25,6 +25,7 @@
 #include "boxplus/io/g2o.h"
 #include "boxplus/loss.h"
 #include "boxplus/progress.h"
+#include "boxplus/slam/certify.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/solver_options.h"
 #include "boxplus/version.h"
@@ -85,6 +86,17 @@ options:
                          Ceres' stopping tolerances (defaults 1e-10, 1e-12, 1e-10)
       --gauge ID[,ID...] hold these vertices fixed (instead of the FIX lines or
                          the first vertex)
+      --certify          after solving, prove the solution globally optimal or
+                         not (SE-Sync's certificate: one sparse Cholesky
+                         factorisation) and, if it is not, escape the saddle
+                         by the Riemannian staircase and solve again (README
+                         "Certified pose graphs"); implies -c sesync unless -c
+                         is given, in which case the certificate is only
+                         evaluated at that convention's solution
+      --certify-tolerance X
+                         certify when f - f* <= X f is proven (default 1e-6)
+      --max-rank N       highest rank of the staircase (default 10; 2 or 3,
+                         the graph's dimension, verifies only)
       --summary FILE     append one line about the run (file, sizes, chi2,
                          iterations, time, status) to FILE
       --stats FILE       write the per-iteration lines to FILE
@@ -202,7 +214,8 @@ int main(int argc, char** argv) {
   std::string input, output, solver = "auto", convention = "g2o", init = "best";
   std::string summary_file, stats_file, gauge;
   int iterations = 100, threads = 1;
-  bool quiet = false, full_report = false;
+  bool quiet = false, full_report = false, certify = false, convention_given = false;
+  boxplus::slam::CertifyOptions certify_options;
   boxplus::slam::LoadOptions load;
   boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
   std::vector<std::string> args;
@@ -247,6 +260,16 @@ int main(int argc, char** argv) {
       output = value();
     } else if (a == "-c" || a == "--convention") {
       convention = value();
+      convention_given = true;
+    } else if (a == "--certify") {
+      certify = true;
+    } else if (a == "--certify-tolerance") {
+      certify_options.certificate.relative_tolerance = ParseDouble(a, value());
+      if (!(certify_options.certificate.relative_tolerance > 0)) {
+        UsageError("--certify-tolerance must be > 0");
+      }
+    } else if (a == "--max-rank") {
+      certify_options.max_rank = ParseInt(a, value());
     } else if (a == "--init") {
       init = value();
     } else if (a == "--gauge") {
@@ -312,6 +335,9 @@ int main(int argc, char** argv) {
   } catch (const boxplus::Error& e) {
     UsageError(e.what());
   }
+  if (certify && !convention_given) {
+    load.graph.convention = boxplus::PoseErrorConvention::kSESync;
+  }
   so.max_iterations = iterations;
   so.num_threads = threads;
   // With the graph on stdout, every other line goes to stderr.
@@ -376,6 +402,18 @@ int main(int argc, char** argv) {
     };
     const boxplus::SolveSummary s = g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
     if (stats) std::fclose(stats);
+    boxplus::slam::CertifyResult cert;
+    if (certify && !g_interrupted && s.usable) {
+      certify_options.local.on_iteration = so.on_iteration;
+      certify_options.local.num_threads = threads;
+      certify_options.interrupted = [] { return g_interrupted.load(); };
+      cert = boxplus::slam::CertifyPoseGraph(pg.get(), certify_options);
+      std::fprintf(stderr,
+                   "# certificate: %s\n# certificate: verification %.3f s, staircase and local "
+                   "solves %.3f s, highest rank %d\n",
+                   cert.message.c_str(), cert.verify_time_s, cert.solve_time_s,
+                   cert.max_rank_reached);
+    }
     if (full_report) std::fprintf(stderr, "%s\n", s.report.c_str());
     std::fprintf(stderr, "# %s (%s)%s\n", boxplus::FormatSummary(s).c_str(),
                  load.graph.robust == "none" ? "no robust kernel" : load.graph.robust.c_str(),
@@ -401,13 +439,16 @@ int main(int argc, char** argv) {
       if (!f) throw boxplus::Error(summary_file + ": cannot open the file for appending");
       std::fprintf(f,
                    "file=%s vertices=%zu edges=%zu solver=%s iterations=%d chi2_initial=%.17g "
-                   "chi2_final=%.17g time_s=%.6f status=%s\n",
+                   "chi2_final=%.17g time_s=%.6f status=%s%s\n",
                    shown.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
                    boxplus::MethodName(so.method).c_str(), s.iterations, chi2_initial, pg->Chi2(),
                    s.time_s,
                    g_interrupted ? "interrupted"
                    : s.usable    ? "ok"
-                                 : "failed");
+                                 : "failed",
+                   !certify         ? ""
+                   : cert.certified ? " certified=1"
+                                    : " certified=0");
       std::fclose(f);
     }
     if (graph_to_stdout) {

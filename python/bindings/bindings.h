@@ -23,5 +23,6 @@ void RegisterImuFactors(pybind11::module_& m);
 void RegisterDepthFactors(pybind11::module_& m);
 void RegisterPoseFactors(pybind11::module_& m);
 void RegisterSlam(pybind11::module_& m);
+void RegisterCertify(pybind11::module_& m);  // after RegisterSlam (adds to PoseGraph)
 
 }  // namespace boxplus::python

@@ -19,4 +19,5 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterDepthFactors(m);
   boxplus::python::RegisterPoseFactors(m);
   boxplus::python::RegisterSlam(m);
+  boxplus::python::RegisterCertify(m);
 }

@@ -12,6 +12,7 @@
 #include <Eigen/SparseCore>
 
 #include "boxplus/errors.h"
+#include "boxplus/factors/pose/chordal_relative_pose.h"
 #include "boxplus/manifolds/se2.h"
 #include "boxplus/manifolds/se3.h"
 
@@ -298,13 +299,9 @@ void InitializeChordal(Graph* g, int root_id) {
     if (!IsPosePose(e.kind)) continue;
     const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
     const Eigen::MatrixXd Z = EdgeMatrix(e).topLeftCorner(d, d);
-    if (d == 3) {
-      kappa[k] = 3.0 / (2.0 * e.information.bottomRightCorner<3, 3>().inverse().trace());
-      tau[k] = 3.0 / e.information.topLeftCorner<3, 3>().inverse().trace();
-    } else {
-      kappa[k] = e.information(2, 2);
-      tau[k] = 2.0 / e.information.topLeftCorner<2, 2>().inverse().trace();
-    }
+    const ChordalPrecisions precisions = ChordalPrecisionsOfInformation(e.information);
+    kappa[k] = precisions.kappa;
+    tau[k] = precisions.tau;
     const double kap = kappa[k];
     // ‖x_j − Zᵀx_i‖²: H_ii += κ ZZᵀ = κI, H_jj += κI, H_ij = −κZ, H_ji = −κZᵀ.
     if (unk[i] >= 0) add_block(unk[i], unk[i], kap * I);

@@ -36,17 +36,25 @@ struct Chordal3DFunctor {
 }  // namespace
 
 ChordalPrecisions ChordalPrecisionsOf(const NoiseModel& noise) {
-  const int n = noise.dim();
-  BOXPLUS_CHECK(n == 3 || n == 6, "chordal precisions: noise must be of dimension 3 or 6, got ", n);
-  const Eigen::MatrixXd information = noise.information();
-  const int d = n == 3 ? 2 : 3;
-  const Eigen::MatrixXd Ot = information.topLeftCorner(d, d);
+  return ChordalPrecisionsOfInformation(noise.information());
+}
+
+ChordalPrecisions ChordalPrecisionsOfInformation(const Eigen::MatrixXd& information) {
+  const int n = static_cast<int>(information.rows());
+  BOXPLUS_CHECK((n == 3 || n == 6) && information.cols() == n,
+                "chordal precisions: information must be 3 x 3 or 6 x 6, got ", information.rows(),
+                " x ", information.cols());
   ChordalPrecisions p;
-  p.tau = d / Ot.inverse().trace();
-  if (d == 2) {
+  // Fixed-size inverses (closed forms): what the chordal initialisation's
+  // messages about weights that underflow or overflow were written against.
+  if (n == 3) {
+    const Eigen::Matrix2d Ot = information.topLeftCorner<2, 2>();
+    p.tau = 2.0 / Ot.inverse().trace();
     p.kappa = information(2, 2);
   } else {
+    const Eigen::Matrix3d Ot = information.topLeftCorner<3, 3>();
     const Eigen::Matrix3d OR = information.bottomRightCorner<3, 3>();
+    p.tau = 3.0 / Ot.inverse().trace();
     p.kappa = 3.0 / (2.0 * OR.inverse().trace());
   }
   return p;

@@ -34,6 +34,8 @@ struct ChordalPrecisions {
 // τ and κ of a 3-dim (2D) or 6-dim (3D) noise's information Ω; throws
 // boxplus::Error for other dimensions.
 ChordalPrecisions ChordalPrecisionsOf(const NoiseModel& noise);
+// The same from the information matrix Ω itself (3 × 3 or 6 × 6).
+ChordalPrecisions ChordalPrecisionsOfInformation(const Eigen::MatrixXd& information);
 // The whitening W above (dimension 6 or 12) of the chordal residual of a
 // measurement with the 3- or 6-dim `noise`.
 NoiseModel ChordalNoise(const NoiseModel& noise);
