@@ -124,22 +124,29 @@ int NewtonPolish(const SESyncGraph& g, const SpMat& M, Eigen::MatrixXd* X, int m
     if (ldlt.info() != Eigen::Success) break;
     const Eigen::VectorXd z = ldlt.solve(-grad);
     if (!z.allFinite()) break;
-    Eigen::MatrixXd next = *X;
-    for (int i = 0; i < n; ++i) {
-      if (i == g.anchor) continue;
-      next.col(i) += z.segment(t_off[i], r);
-      const Eigen::VectorXd xi = B[i] * z.segment(r_off[i], T);
-      next.middleCols(n + d * i, d) = OrthonormalFactor(
-          X->middleCols(n + d * i, d) + Eigen::Map<const Eigen::MatrixXd>(xi.data(), r, d));
+    // Backtracking along the Newton step: far from the minimum (a solve that
+    // stopped at its iteration limit) the full step can overshoot.
+    bool better = false;
+    Eigen::MatrixXd next;
+    State trial;
+    for (double alpha = 1.0; alpha > 1e-3 && !better; alpha *= 0.5) {
+      next = *X;
+      for (int i = 0; i < n; ++i) {
+        if (i == g.anchor) continue;
+        next.col(i) += alpha * z.segment(t_off[i], r);
+        const Eigen::VectorXd xi = alpha * (B[i] * z.segment(r_off[i], T));
+        next.middleCols(n + d * i, d) = OrthonormalFactor(
+            X->middleCols(n + d * i, d) + Eigen::Map<const Eigen::MatrixXd>(xi.data(), r, d));
+      }
+      trial = Measure(g, M, next);
+      better = trial.e < cur.e && trial.f <= cur.f + 1e-12 * std::abs(cur.f);
     }
-    State trial = Measure(g, M, next);
-    const bool better = trial.e < cur.e && trial.f <= cur.f + 1e-12 * std::abs(cur.f);
     if (!better) break;
     *X = next;
     ++kept;
-    const bool slow = trial.e > 0.5 * cur.e;
+    const bool converged = trial.e > 0.5 * cur.e && trial.f >= cur.f - 1e-14 * std::abs(cur.f);
     cur = std::move(trial);
-    if (slow) break;
+    if (converged) break;
   }
   return kept;
 }
