@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'exact_value', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'exact_value', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1287,6 +1287,24 @@ class PoseGraph:
         """
         Adds a vertex ('SE2', 'SE3', 'XY', 'XYZ'); returns its variable id. The call is checked completely first: one that raises leaves the graph unchanged.
         """
+    def certify(self, tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06, max_rank: typing.SupportsInt | typing.SupportsIndex = 10) -> CertifyResult:
+        """
+        Proves the current solution globally optimal, or not (SE-Sync's certificate:
+        one sparse Cholesky factorisation; Rosen et al., IJRR 2019). In the 'sesync'
+        convention a solution that is not certified is improved by the Riemannian
+        staircase up to rank ``max_rank`` (the graph's dimension: verify only) and
+        solved again in place. In other conventions the certificate of SE-Sync's
+        objective is evaluated at the solution as it is. Returns a CertifyResult.
+        Raises boxplus.BoxplusError for graphs it does not cover (landmarks, priors,
+        offsets, a robust kernel, more than one fixed vertex, several components).
+        
+        Parameters
+        ----------
+        tolerance : float
+            Certify when f − f* ≤ tolerance·f is proven.
+        max_rank : int
+            Highest rank of the Riemannian staircase.
+        """
     def chi2(self, convention: str = '') -> float:
         """
         Σ eᵀΩe over the graph's edges at the current values ('g2o', 'log', 'compound' or 'sesync'; default: the graph's convention).
@@ -1354,6 +1372,61 @@ class PoseGraph:
         """
     @property
     def vertex_ids(self) -> list[int]:
+        ...
+class CertifyResult:
+    """
+    What PoseGraph.certify proved (SE-Sync's certificate, README "Certified pose
+    graphs"). ``certified``: the solution is the global optimum of SE-Sync's
+    objective f up to the tolerance (f − f* ≤ tolerance·f proven);
+    ``lower_bound``: a proven lower bound on the global optimum f* (−inf if none);
+    ``suboptimality_bound``: f − lower_bound; ``lambda_min``: the certificate's
+    smallest eigenvalue when the test failed (NaN when it passed: then it is
+    > −eta); ``max_rank_reached``: the staircase's highest rank (the graph's
+    dimension when none was needed); times in seconds.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def certified(self) -> bool:
+        ...
+    @property
+    def eta(self) -> float:
+        ...
+    @property
+    def interrupted(self) -> bool:
+        ...
+    @property
+    def lambda_min(self) -> float:
+        ...
+    @property
+    def lower_bound(self) -> float:
+        ...
+    @property
+    def max_rank_reached(self) -> int:
+        ...
+    @property
+    def message(self) -> str:
+        ...
+    @property
+    def objective(self) -> float:
+        ...
+    @property
+    def solution_changed(self) -> bool:
+        ...
+    @property
+    def solve_time_s(self) -> float:
+        ...
+    @property
+    def staircase_used(self) -> bool:
+        ...
+    @property
+    def stationarity(self) -> float:
+        ...
+    @property
+    def suboptimality_bound(self) -> float:
+        ...
+    @property
+    def verify_time_s(self) -> float:
         ...
 def _native_log_drain() -> list:
     """
