@@ -452,9 +452,14 @@ class OptimizationProblem(CalibrationFactors):
             Termination, χ² before and after, iterations, time. Ctrl-C stops the
             solve and keeps the best estimate so far (termination 'interrupted').
             A Python exception raised by a measurement function, a manifold's ⊞
-            or the callback is re-raised with its traceback.
+            or the callback is re-raised with its traceback. The summary is
+            also logged at INFO on the ``boxplus`` logger (:mod:`boxplus.log`).
         """
-        return solver.run(self._core, options, callback, verbose, **overrides)
+        from boxplus.log import log_summary
+
+        summary = solver.run(self._core, options, callback, verbose, **overrides)
+        log_summary(summary, "solve")
+        return summary
 
     # ---- after a solve ---------------------------------------------------------------
     def _undetermined(self, vid: int) -> bool:

@@ -57,6 +57,12 @@ def test_pose_graph_load_and_solve_are_logged(caplog_boxplus):
     assert debug[1].split()[:2] == ["0", f"{2 * s.initial_cost:.8e}"]
 
 
+def test_optimization_problem_solve_is_logged(caplog_boxplus):
+    s = _small_problem().solve()
+    infos = [r.getMessage() for r in caplog_boxplus.records if r.levelno == logging.INFO]
+    assert infos == [f"solve: {_core.format_summary(s)}"]
+
+
 def test_load_warnings_are_logged_and_warned(caplog_boxplus):
     with pytest.warns(UserWarning, match=r"skipped 1 line\(s\) with unknown tags"):
         slam.load_g2o(DATA / "bad_unknown_tag.g2o", skip_unknown=True)
