@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "boxplus/progress.h"
 #include "pending_error.h"
 #include "python_manifold.h"
 #include "solver.h"
@@ -41,6 +42,10 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
                              const py::kwargs& overrides,
                              const std::function<SolveSummary(const SolverOptions&)>& solve) {
   SolverOptions o = MakeSolverOptions(options, overrides);
+  // verbose prints through Python's print (sys.stdout: notebooks and
+  // contextlib.redirect_stdout see it), not from C++ to the process' stderr.
+  const bool verbose = o.verbose;
+  o.verbose = false;
   if (!callback.is_none() && !PyCallable_Check(callback.ptr())) {
     throw py::type_error("callback must be callable, got " +
                          std::string(py::str(py::type::of(callback).attr("__name__"))));
@@ -63,10 +68,12 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
   const bool main_thread =
       py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>() ==
       PyThread_get_thread_ident();
-  o.on_iteration = [&, has_callback, main_thread](const IterationInfo& info) {
+  if (verbose) py::print(ProgressHeader(), py::arg("flush") = true);
+  o.on_iteration = [&, has_callback, main_thread, verbose](const IterationInfo& info) {
     if (slot.Has()) return false;
-    if (!has_callback && !main_thread) return true;
+    if (!has_callback && !main_thread && !verbose) return true;
     py::gil_scoped_acquire gil;
+    if (verbose) py::print(FormatProgress(info), py::arg("flush") = true);
     if (PyErr_CheckSignals() != 0) {
       if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
         PyErr_Clear();
@@ -102,6 +109,7 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
     pending.reset();
   }
   if (pending) throw std::move(*pending);
+  if (verbose) py::print(FormatSummary(s), py::arg("flush") = true);
   return s;
 }
 

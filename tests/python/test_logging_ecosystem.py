@@ -63,6 +63,19 @@ def test_optimization_problem_solve_is_logged(caplog_boxplus):
     assert infos == [f"solve: {_core.format_summary(s)}"]
 
 
+def test_low_level_verbose_solve_prints_through_python(capfd):
+    p = _small_problem()
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        s = p._core.solve(verbose=True)
+    lines = out.getvalue().splitlines()
+    assert lines[0] == _core.progress_header()
+    assert lines[-1] == _core.format_summary(s)
+    assert len(lines) == s.iterations + 3  # header, iteration 0 … n, summary
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""
+
+
 def test_load_warnings_are_logged_and_warned(caplog_boxplus):
     with pytest.warns(UserWarning, match=r"skipped 1 line\(s\) with unknown tags"):
         slam.load_g2o(DATA / "bad_unknown_tag.g2o", skip_unknown=True)
@@ -89,7 +102,9 @@ def test_progress_callback_logs_and_chains(caplog_boxplus):
         s = p.solve(callback=progress)
     lines = [r.getMessage() for r in caplog_boxplus.records if r.levelno == logging.INFO]
     assert lines[0] == _core.progress_header()
-    assert lines[1:] == [_core.format_progress(i) for i in infos]
+    # The iterations, then OptimizationProblem.solve's own summary line.
+    assert lines[1:-1] == [_core.format_progress(i) for i in infos]
+    assert lines[-1] == f"solve: {_core.format_summary(s)}"
     assert progress.iterations == s.iterations
     assert progress.chi2 == pytest.approx(2 * s.final_cost)
     # The chained callback can stop the solve.

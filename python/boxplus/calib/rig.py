@@ -367,6 +367,8 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
     robust : drop corners beyond k σ̂ and re-solve (:func:`calibrate_mono`)
     view_names : a name per view (e.g. file names) for reports and plots
 
+    Notes
+    -----
     Initialisation: Zhang per camera (≥ 3 views each); a camera graph whose
     edges are the pairs of cameras that saw the board in the same views,
     weighted by the number of such views; cam_from_ref along the tree of the
