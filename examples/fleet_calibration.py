@@ -256,7 +256,10 @@ def _ray_executor(workers: int, address: str | None):
     if address:
         ray.init(address=address, log_to_driver=False)
     else:
-        ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+        # Loopback only: a local cluster has no business on the machine's
+        # network interfaces.
+        ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False,
+                 _node_ip_address="127.0.0.1")
     return bp.parallel.RayExecutor(num_cpus=1), ray.shutdown
 
 
@@ -267,7 +270,7 @@ def _dask_executor(workers: int, address: str | None):
         client = Client(address)
         return client, client.close
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
+                           host="127.0.0.1", dashboard_address=None)
     client = Client(cluster)
 
     def close() -> None:
