@@ -112,7 +112,25 @@ _backend = "none"
 _prefer_threadpoolctl = True  # False: OpenBLAS' own call even when threadpoolctl is installed
 
 
+_cache: tuple[tuple[int, bool], list[_Pool]] | None = None
+
+
 def _pools() -> list[_Pool]:
+    """The BLAS pools of the process, scanned again only after an import.
+
+    Scanning the loaded libraries costs about 1 ms, more than a small solve;
+    a new BLAS comes into the process with a Python import (numpy, scipy,
+    boxplus' own extension), so the number of imported modules tells when
+    to look again.
+    """
+    global _cache
+    key = (len(sys.modules), _prefer_threadpoolctl)
+    if _cache is None or _cache[0] != key:
+        _cache = (key, _scan_pools())
+    return _cache[1]
+
+
+def _scan_pools() -> list[_Pool]:
     global _backend
     pools = _threadpoolctl_pools() if _prefer_threadpoolctl else None
     if pools is not None:
@@ -145,8 +163,9 @@ def limit(num_threads: int) -> Iterator[None]:
     Notes
     -----
     The libraries are looked up when the first of the concurrent blocks
-    opens, so a BLAS loaded later (say scipy's, imported during a solve) is
-    not capped by that block.
+    opens (again only after a Python import since the last look), so a BLAS
+    loaded later (say scipy's, imported during a solve) is not capped by that
+    block.
     """
     n = int(num_threads)
     if n < 1:

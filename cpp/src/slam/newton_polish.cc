@@ -21,15 +21,9 @@ struct State {
 
 State Measure(const SESyncGraph& g, const SpMat& M, const Eigen::MatrixXd& X) {
   State s;
-  s.S = CertificateMatrix(g, M, X);
-  // E = (XM)ᵀ − Diag(0, Λ) Xᵀ from the edge-wise XM (no cancellation).
-  const Eigen::MatrixXd XM = g.TimesM(X);
-  s.E = XM.transpose();
-  for (int i = 0; i < g.n; ++i) {
-    const Eigen::MatrixXd Y = X.middleCols(g.n + g.d * i, g.d);
-    const Eigen::MatrixXd L = Y.transpose() * XM.middleCols(g.n + g.d * i, g.d);
-    s.E.middleRows(g.n + g.d * i, g.d) -= 0.5 * (L + L.transpose()) * Y.transpose();
-  }
+  CertificateParts parts = ComputeCertificateParts(g, M, X);
+  s.S = std::move(parts.S);
+  s.E = std::move(parts.E);
   s.f = g.Objective(X);
   s.e = std::sqrt(std::max(0.0, s.E.squaredNorm() - s.E.row(g.anchor).squaredNorm()));
   return s;

@@ -115,12 +115,20 @@ struct SESyncGraph {
 // f(X) = tr(X M Xᵀ).
 double SESyncObjective(const Eigen::SparseMatrix<double>& M, const Eigen::MatrixXd& X);
 
-// S = M − Diag(0, Λ₁, …, Λₙ) at X (N × N, translations first, the
-// multipliers of Eq. 25), and Σ tr Λᵢ.
-Eigen::SparseMatrix<double> CertificateMatrix(const SESyncGraph& graph,
-                                              const Eigen::SparseMatrix<double>& M,
-                                              const Eigen::MatrixXd& X,
-                                              double* trace_lambda = nullptr);
+// What the certificate and the Newton polish need at X, computed once:
+// X M (edge by edge), the multipliers Λᵢ = Sym(Yᵢᵀ (XM)_{Rᵢ}) (Eq. 25),
+// S = M − Diag(0, Λ₁, …, Λₙ) (N × N, translations first) and the residual
+// E = S Xᵀ = (XM)ᵀ − Diag(0, Λ) Xᵀ (N × r, half the Riemannian gradient),
+// formed from XM rather than as S·Xᵀ, which would cancel large terms.
+struct CertificateParts {
+  Eigen::MatrixXd XM;
+  std::vector<Eigen::MatrixXd> Lambda;
+  Eigen::SparseMatrix<double> S;
+  Eigen::MatrixXd E;
+};
+CertificateParts ComputeCertificateParts(const SESyncGraph& graph,
+                                         const Eigen::SparseMatrix<double>& M,
+                                         const Eigen::MatrixXd& X);
 
 // The certificate of X (rank r ≥ d, rotation blocks with orthonormal columns)
 // for the data matrix M of `graph`.
