@@ -9,6 +9,8 @@
 // solves it with Ceres and writes the result with the file's ids and order.
 // Exit codes: 0 success, 1 the solver failed, 2 bad input or usage, 130
 // interrupted (Ctrl-C: the last accepted estimate is written to -o first).
+#include <dlfcn.h>
+
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -53,12 +55,14 @@ options:
                          of 60 graphs, README "Pose graphs"); lm
                          (Levenberg-Marquardt), gn (Gauss-Newton: undamped,
                          the trust region only rejects steps), gn-ls
-                         (Gauss-Newton with a backtracking line search;
-                         single-threaded), dogleg
+                         (Gauss-Newton with a backtracking line search),
+                         dogleg
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
-  -t, --threads N        threads for Jacobians and linear algebra (default 1)
+  -t, --threads N        threads for the Jacobians and the factorisation's BLAS
+                         (default 1; OPENBLAS_NUM_THREADS, when set, decides
+                         the BLAS threads)
   -o, --output FILE      write the optimised graph (ids and order kept); '-' is
                          stdout (then every other line goes to stderr)
   -c, --convention NAME  pose error: g2o (default; [t, vec(q)] of z⁻¹xᵢ⁻¹xⱼ, as
@@ -208,6 +212,19 @@ void ListTypes() {
       "TORO: VERTEX VERTEX2 EDGE EDGE2 VERTEX3 EDGE3 EQUIV\n");
 }
 
+// CHOLMOD's supernodal factorisation runs in BLAS, and OpenBLAS starts a
+// thread per core unless told otherwise: --threads decides that too, so that
+// the default run is single-threaded throughout (and timed like one). A BLAS
+// without this entry point, or an OPENBLAS_NUM_THREADS the user set, is left
+// as it is.
+void LimitBlasThreads(int threads) {
+  if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr) return;
+  using SetThreads = void (*)(int);
+  if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) {
+    set(threads);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -340,6 +357,7 @@ int main(int argc, char** argv) {
   }
   so.max_iterations = iterations;
   so.num_threads = threads;
+  LimitBlasThreads(threads);
   // With the graph on stdout, every other line goes to stderr.
   const bool graph_to_stdout = output == "-";
   FILE* progress = graph_to_stdout ? stderr : stdout;

@@ -73,11 +73,13 @@ def _entry(name: str, signature: inspect.Signature, self: Any, args: tuple,
            kwargs: dict[str, Any]) -> tuple[str, tuple, dict[str, Any]]:
     """The journal entry of a call: its arguments frozen, but those the problem keeps
     by reference (:data:`_BY_REFERENCE`)."""
+    kept = _BY_REFERENCE.get(name)
+    if kept is None:  # everything frozen: no need to know which argument is which
+        return name, tuple(_frozen(a) for a in args), {k: _frozen(v) for k, v in kwargs.items()}
     try:
         bound = signature.bind(self, *args, **kwargs)
     except TypeError:  # the call itself will raise the same error
         return name, args, kwargs
-    kept = _BY_REFERENCE.get(name, ())
     for key, value in bound.arguments.items():
         if key != "self" and key not in kept:
             bound.arguments[key] = _frozen(value)

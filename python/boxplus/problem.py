@@ -535,7 +535,13 @@ class OptimizationProblem(CalibrationFactors):
 
     def _cpp_rows(self, mid: int, values: np.ndarray) -> np.ndarray:
         """A C++ measurement's error or residual as rows of its noise's dimension."""
-        return values.reshape(-1, self._core.noise(mid).dim)
+        # the noise's dimension, cached: a measurement keeps its noise, and fetching
+        # the model for each call was most of the cost of rms() on large problems
+        dims = self.__dict__.setdefault("_noise_dims", {})
+        dim = dims.get(mid)
+        if dim is None:
+            dim = dims[mid] = self._core.noise(mid).dim
+        return values.reshape(-1, dim)
 
     def errors(self) -> dict[str, np.ndarray]:
         """Unwhitened errors f(Y) ⊟ z of every measurement, per group, in the

@@ -5,6 +5,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 #include "boxplus/errors.h"
 #include "boxplus/io/g2o.h"
@@ -352,6 +355,46 @@ TEST(G2oRead, Edge3WithoutInformationIsTheIdentityAndCounted) {
   EXPECT_FALSE(g.edges[1].identity_information);
   EXPECT_THAT(report.Warnings("f.g2o"),
               HasSubstr("f.g2o: warning: 2 EDGE3 line(s) without an information matrix"));
+}
+
+// The number reader (a fast path for short plain decimals, std::from_chars
+// for the rest) returns strtod's double, bit for bit, for every form a file
+// may hold, and refuses what strtod would not read whole or read as infinite.
+TEST(G2oRead, NumbersAreReadAsStrtodReadsThem) {
+  for (const char* token : {"0",
+                            "-0",
+                            "0.0",
+                            "-0.000000",
+                            "1.",
+                            ".5",
+                            "+1.5",
+                            "-1.234567",
+                            "40000.0",
+                            "0.1",
+                            "123456789012345",
+                            "1234567890123456",
+                            "12345.678901234",
+                            "399.99999999999994",
+                            "-0.30000000000000004",
+                            "1e5",
+                            "1E-5",
+                            "+2.5e-3",
+                            "1e-400",
+                            "4.9e-324",
+                            "1.7976931348623157e308",
+                            "0.000000000000001",
+                            "999999999999999.9"}) {
+    const Graph g = ParseG2o(std::string("VERTEX_SE2 0 ") + token + " 0 0\n", "n.g2o");
+    const double expected = std::strtod(token, nullptr);
+    const double got = g.vertices[0].estimate[0];
+    EXPECT_EQ(std::memcmp(&got, &expected, sizeof(double)), 0)
+        << token << ": " << got << " vs strtod " << expected;
+  }
+  for (const char* token : {"0x10", "1e400", "-1e999", "nan", "inf", "1.2.3", "--1", "+-1", "-",
+                            "+", ".", "1e", "1,5", "٣"}) {
+    EXPECT_THROW(ParseG2o(std::string("VERTEX_SE2 0 ") + token + " 0 0\n", "n.g2o"), ParseError)
+        << token;
+  }
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace boxplus {
 // minimisers (kGaussNewton: undamped steps, a failed step only shrinks the
 // region). kGaussNewtonLineSearch is boxplus' own Gauss–Newton with a
 // backtracking line search along x ⊞ αδ (JᵀJ assembled by blocks, sparse
-// Cholesky by Eigen or CHOLMOD; single-threaded; robust losses by reweighting).
+// Cholesky by Eigen or CHOLMOD; num_threads share the Jacobians; robust losses by reweighting).
 // kGaussNewtonFallback runs kGaussNewtonLineSearch while its full steps are
 // accepted and switches to kLevenbergMarquardt when the line search has to
 // shorten them (see src/solver/gauss_newton_with_fallback.h): the pose-graph

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -168,6 +170,12 @@ std::string ReadReport::Warnings(const std::string& path) const {
 
 bool IsPositiveDefinite(const Eigen::MatrixXd& info) {
   if (!info.allFinite() || info.rows() != info.cols()) return false;
+  // Up to 6 × 6 (every g2o edge) on the stack: one check per edge of a big file.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  if (info.rows() <= 6) {
+    Eigen::LLT<Small> llt(info);
+    return llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0;
+  }
   Eigen::LLT<Eigen::MatrixXd> llt(info);
   if (llt.info() != Eigen::Success) return false;
   const Eigen::VectorXd d = llt.matrixLLT().diagonal();
@@ -204,16 +212,60 @@ struct Fields {
   std::string quoted(size_t i) const { return Escaped(str(i)); }
 };
 
+// Field separators (space, tab, CR), by byte: one load per byte instead of
+// three comparisons (splitting is a third of the time a big file takes).
+struct Separators {
+  bool is[256] = {};
+  constexpr Separators() : is() {
+    is[static_cast<unsigned char>(' ')] = is[static_cast<unsigned char>('\t')] =
+        is[static_cast<unsigned char>('\r')] = true;
+  }
+};
+constexpr Separators kSeparators;
+
 void Split(const char* begin, const char* end, Fields* out) {
   out->f.clear();
+  const auto sep = [](const char* c) { return kSeparators.is[static_cast<unsigned char>(*c)]; };
   const char* p = begin;
   while (p < end) {
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+    while (p < end && sep(p)) ++p;
     if (p >= end || *p == '#') break;
     const char* s = p;
-    while (p < end && *p != ' ' && *p != '\t' && *p != '\r') ++p;
+    while (p < end && !sep(p)) ++p;
     out->f.emplace_back(s, static_cast<size_t>(p - s));
   }
+}
+
+// A plain decimal [±]digits[.digits] of at most 15 characters, as most
+// numbers of a g2o file are ("0.000000", "-1.234567", "40000.0"): at most 15
+// digits, so its value m / 10ᵏ has m < 2⁵³ and 10ᵏ (k ≤ 15) exact doubles, and
+// the one IEEE division is correctly rounded: the double strtod returns
+// (Clinger's fast path). False for anything else (exponents, longer
+// numbers), which the full parser reads.
+bool PlainDecimal(const char* s, const char* e, double* out) {
+  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  if (e - s > 15) return false;
+  const bool negative = s < e && *s == '-';
+  if (s < e && (*s == '-' || *s == '+')) ++s;
+  int64_t m = 0;
+  int digits = 0, fraction = -1;  // digits after the dot, −1 before it
+  for (; s < e; ++s) {
+    const unsigned d = static_cast<unsigned>(*s - '0');
+    if (d <= 9) {
+      m = 10 * m + d;
+      ++digits;
+      if (fraction >= 0) ++fraction;
+    } else if (*s == '.' && fraction < 0) {
+      fraction = 0;
+    } else {
+      return false;
+    }
+  }
+  if (digits == 0) return false;
+  const double v = static_cast<double>(m) / kPow10[fraction < 0 ? 0 : fraction];
+  *out = negative ? -v : v;
+  return true;
 }
 
 class LineParser {
@@ -234,18 +286,28 @@ class LineParser {
     }
   }
   double Number(size_t i) const {
-    char buf[64];
     const auto& [s, n] = fields_.f[i];
-    if (n == 0 || n >= sizeof(buf)) Bad(i);
-    // Decimal only: strtod would also take C99 hex ("0x10"), which no other
-    // g2o reader does.
-    if (std::find_if(s, s + n, [](char c) { return c == 'x' || c == 'X'; }) != s + n) Bad(i);
-    std::copy(s, s + n, buf);
-    buf[n] = '\0';
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(buf, &end);
-    if (end != buf + n || !std::isfinite(v)) Bad(i);
+    if (n == 0 || n >= 64) Bad(i);
+    // std::from_chars: correctly rounded like strtod, several times faster
+    // (most of a big file's reading time is spent here), decimal only (no C99
+    // hex, which no other g2o reader takes either). strtod's leading '+' is
+    // kept; a number below the smallest double is read by strtod, which
+    // rounds it to 0 or a subnormal where from_chars reports a range error.
+    double v = 0.0;
+    if (PlainDecimal(s, s + n, &v)) return v;
+    const char* b = s;
+    if (*b == '+' && n > 1 && b[1] != '-' && b[1] != '+') ++b;
+    const auto [end, ec] = std::from_chars(b, s + n, v, std::chars_format::general);
+    if (end != s + n) Bad(i);
+    if (ec == std::errc::result_out_of_range) {
+      char buf[64];
+      std::copy(s, s + n, buf);
+      buf[n] = '\0';
+      v = std::strtod(buf, nullptr);
+    } else if (ec != std::errc()) {
+      Bad(i);
+    }
+    if (!std::isfinite(v)) Bad(i);
     return v;
   }
   int Id(size_t i) const {
@@ -358,6 +420,16 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
   Fields fields;
   const char* p = text.data();
   const char* end = p + text.size();
+  {  // the edges' and records' storage at once (no regrowth: its copies raise the peak memory)
+    size_t lines = 0, edges = 0;
+    for (const char* q = p; q < end; ++lines) {
+      if (*q == 'E') ++edges;  // EDGE…, EQUIV
+      const char* eol = static_cast<const char*>(std::memchr(q, '\n', end - q));
+      q = eol ? eol + 1 : end;
+    }
+    g.edges.reserve(edges);
+    g.order.reserve(lines);
+  }
   int line = 0;
   const int progress_every = std::max(1, options.progress_lines);
   while (p < end) {
@@ -737,7 +809,14 @@ Graph ReadG2o(const std::string& path, const ReadOptions& options, ReadReport* r
                 ": is a directory, not a g2o file");
   std::ifstream in(path, std::ios::binary);
   BOXPLUS_CHECK(in.good(), Escaped(path), ": cannot open the file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // One read into a buffer of the file's size (an istreambuf_iterator copies
+  // byte by byte: a tenth of the reading time of a 140 MB file); a file whose
+  // size is unknown (a pipe) is read in chunks.
+  std::string text;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && std::filesystem::is_regular_file(path, ec)) text.reserve(size);
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) text.append(chunk, in.gcount());
   BOXPLUS_CHECK(!in.bad(), Escaped(path), ": reading failed");
   return ParseG2o(text, path, options, report);
 }

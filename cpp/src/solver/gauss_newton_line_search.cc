@@ -35,7 +35,7 @@ class GaussNewtonLineSearch {
         terms_(terms),
         options_(options),
         prepare_(prepare),
-        normal_(blocks, terms) {}
+        normal_(blocks, terms, options.num_threads) {}
 
   SolveSummary Run() {
     start_ = Clock::now();

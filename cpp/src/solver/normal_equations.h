@@ -11,6 +11,13 @@
 // the scalar factorisation keeps its natural order), and the sparsity pattern
 // of the upper triangle of H holds whole blocks (i, j), i ≤ j. Each assembly
 // only adds every term's block products into their known positions.
+//
+// With num_threads > 1 the terms are split into that many contiguous ranges,
+// evaluated concurrently (cost functions are const and Ceres evaluates them
+// concurrently too); each thread adds into its own copy of H's values and g,
+// and the copies are summed afterwards. The sums are then taken in another
+// order than the serial loop's, so results agree with it to rounding, and are
+// the same from run to run for a given number of threads.
 #pragma once
 
 #include <vector>
@@ -27,7 +34,8 @@ class NormalEquations {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
   // Both lists must outlive this object.
-  NormalEquations(const std::vector<LsqBlock>& blocks, const std::vector<LsqTerm>& terms);
+  NormalEquations(const std::vector<LsqBlock>& blocks, const std::vector<LsqTerm>& terms,
+                  int num_threads = 1);
 
   // The free blocks in column order, where each one's tangent coordinates
   // start, and how many there are (in total: tangent_size()).
@@ -47,8 +55,24 @@ class NormalEquations {
   const Eigen::VectorXd& gradient() const { return g_; }
 
  private:
+  // Per-thread scratch reused across terms.
+  struct Scratch {
+    Eigen::VectorXd residual;
+    std::vector<RowMajor> ambient_jac;
+    std::vector<double*> jac_ptrs;
+    std::vector<Eigen::MatrixXd> tangent_jac;
+    Eigen::MatrixXd block;
+  };
+
   void Layout();
   Eigen::VectorXi BlockOrdering(int num_candidates) const;
+  // How many threads share the terms (1 when there are too few to pay for a thread).
+  int Threads() const;
+  // ½ Σ ρ of the terms [begin, end); false when one cannot be evaluated.
+  bool CostOfTerms(size_t begin, size_t end, Eigen::VectorXd* residual, double* cost) const;
+  // Adds the terms [begin, end) into `values` (H's value array) and `g`.
+  bool AddTerms(size_t begin, size_t end, Scratch* s, double* values, Eigen::VectorXd* g,
+                double* cost) const;
 
   const std::vector<LsqBlock>& blocks_;
   const std::vector<LsqTerm>& terms_;
@@ -68,12 +92,11 @@ class NormalEquations {
   Eigen::VectorXd g_;
   std::vector<RowMajor> plus_jacobian_;
 
-  // Scratch reused across terms.
-  Eigen::VectorXd residual_;
-  std::vector<RowMajor> ambient_jac_;
-  std::vector<double*> jac_ptrs_;
-  std::vector<Eigen::MatrixXd> tangent_jac_;
-  Eigen::MatrixXd block_;
+  int num_threads_;
+  std::vector<Scratch> scratch_;                // one per thread
+  std::vector<std::vector<double>> partial_h_;  // threads 1.. : their H values
+  std::vector<Eigen::VectorXd> partial_g_;      // and g
+  std::vector<Eigen::VectorXd> residuals_;      // cost-only evaluations, per thread
 };
 
 }  // namespace boxplus::internal

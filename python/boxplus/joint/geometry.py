@@ -79,9 +79,13 @@ def ray(model: str, k: Any, uv: np.ndarray) -> np.ndarray:
     fx, fy, c, _, _ = _split(model, k)
     xd, yd = (uv[:, 0] - c[0]) / fx, (uv[:, 1] - c[1]) / fy
     x, y = xd.copy(), yd.copy()
-    for _ in range(_UNDISTORT_STEPS):
-        dx, dy = _distort(model, k, x, y)
-        x, y = x - (dx - xd), y - (dy - yd)
+    if len(x):
+        for _ in range(_UNDISTORT_STEPS):
+            dx, dy = _distort(model, k, x, y)
+            ex, ey = dx - xd, dy - yd
+            x, y = x - ex, y - ey
+            if max(np.max(np.abs(ex)), np.max(np.abs(ey))) <= 1e-15:  # a fixed point: more steps change nothing
+                break
     return np.column_stack([x, y, np.ones(len(x))])
 
 

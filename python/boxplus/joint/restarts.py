@@ -147,6 +147,8 @@ def solve_with_restarts(
         seed = int(np.random.default_rng().integers(2**62))
     result = problem.solve(**solve_kw)
     best_cost, best = problem.cost(), result
+    if restarts == 0:  # nothing to compare: the solve's values stay as they are
+        return RestartResult(best, best_cost, [best_cost])
     x0 = problem.X
     best_X = x0
     costs = [best_cost]

@@ -312,6 +312,23 @@ def _well_scaled(d: dict) -> bool:
     return not len(d["info"]) or float(np.max(np.abs(d["info"]))) <= 1e15
 
 
+def _edges_well_scaled(text: bytes) -> bool:
+    """Whether a saved graph's χ² survives its save and reload digit by digit: with
+    a number beyond 1e15 on an edge line (an information entry, as a rule) the
+    last-bit change of a re-normalised quaternion times Ω exceeds the comparison's
+    tolerance (a 1e308 entry: χ² 1.2e276 before, 1.7e-10 after, both correct)."""
+    for line in text.splitlines():
+        if line.startswith(b"VERTEX"):
+            continue
+        for token in line.split()[1:]:
+            try:
+                if abs(float(token)) > 1e15:
+                    return False
+            except ValueError:
+                continue
+    return True
+
+
 def _estimates_from_file(g) -> bool:
     rep = g.report
     return rep["estimates_from_file"] if isinstance(rep, dict) else rep.estimates_from_file
@@ -360,7 +377,7 @@ def check_graph(g, path: str, data: bytes, options: dict) -> tuple:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             h = slam.load_g2o(out, convention=options["convention"], init="file")
-        if not _close(h.chi2(), chi):
+        if _edges_well_scaled(Path(out).read_bytes()) and not _close(h.chi2(), chi):
             return "wrong_load", f"reloaded chi2 {h.chi2()} != {chi}"
         if _oracle_tags(Path(out).read_bytes()) and options["convention"] == "g2o" and g.num_edges:
             # The saved file, read by the oracle in its own order (a file
