@@ -28,6 +28,13 @@ def test_ten_thousand_seeded_cases_end_ok_or_named(tmp_path):
     assert counts["ok"] > 1000 and counts["parse_error"] > 1000
 
 
+def test_parallel_chunks_give_the_serial_outcomes(tmp_path):
+    # make fuzz runs its chunks on every core: the same cases, the same outcomes
+    serial = fuzz.run(600, seed=4, data=DATA, chunk=150, regressions=None)
+    parallel = fuzz.run(600, seed=4, data=DATA, chunk=150, regressions=None, jobs=2)
+    assert serial == parallel and sum(serial[0].values()) == 600
+
+
 def test_the_fuzzer_classifies_a_crash_and_keeps_its_input(tmp_path):
     # A worker that dies is a crash, named by its case; nothing else is lost.
     name, data, options = fuzz.make_case(1, 3, fuzz.seeds(DATA))

@@ -478,51 +478,85 @@ def _save_regression(directory: Path, data: bytes, options: dict, outcome: str, 
     return p
 
 
+def _chunk(seed: int, start: int, end: int, data: Path, cli: str | None, cli_every: int,
+           progress: str) -> tuple:
+    """Cases [start, end) in worker subprocesses: a worker that dies is a crash of
+    the case after its last report, and a new worker goes on after it."""
+    counts: Counter = Counter()
+    bad: list = []
+    while start < end:
+        cmd = [sys.executable, "-m", "boxplus.testing.fuzz", "--worker", "--seed", str(seed),
+               "--start", str(start), "--end", str(end), "--progress", progress,
+               "--data", str(data), "--cli-every", str(cli_every)]
+        if cli:
+            cmd += ["--cli", cli]
+        last = start - 1
+        with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
+            assert p.stdout is not None  # stdout=PIPE
+            for line in p.stdout:
+                i, outcome, detail = json.loads(line)
+                last = i
+                counts[outcome] += 1
+                if outcome in BAD:
+                    bad.append((i, outcome, detail))
+        if last + 1 < end:  # the worker died on case last + 1
+            last += 1
+            counts["crash"] += 1
+            bad.append((last, "crash", f"worker exit {p.returncode}"))
+        start = last + 1
+    return counts, bad
+
+
 def run(cases: int, seed: int = 1, data: Path = Path("tests/data"), cli: str | None = None,
         cli_every: int = 200, regressions: Path | None = Path("tests/data/fuzz_regressions"),
-        chunk: int = 2000, verbose: bool = False, minutes: float | None = None) -> tuple:
-    """Runs `cases` seeded cases in worker subprocesses (or fewer: as many whole
-    chunks as fit in `minutes`); returns (Counter of outcomes, list of (index,
-    outcome, detail) of the bad ones). Bad inputs are saved chunk by chunk, so
-    an interrupted long run keeps what it found."""
+        chunk: int = 2000, verbose: bool = False, minutes: float | None = None,
+        jobs: int = 1) -> tuple:
+    """Runs `cases` seeded cases in worker subprocesses, chunk by chunk, ``jobs``
+    chunks at a time (or fewer cases: the chunks started within `minutes`);
+    returns (Counter of outcomes, list of (index, outcome, detail) of the bad
+    ones, by index). Bad inputs are saved as each chunk ends, so an interrupted
+    long run keeps what it found. The outcomes do not depend on ``jobs``."""
+    from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+
     counts: Counter = Counter()
     bad: list = []
     corpus = seeds(data)
-    start = 0
     t0 = time.monotonic()
-    with tempfile.TemporaryDirectory() as d:
-        progress = os.path.join(d, "progress")
-        while start < cases and (minutes is None or time.monotonic() - t0 < 60 * minutes):
-            end = min(cases, start + chunk)
-            cmd = [sys.executable, "-m", "boxplus.testing.fuzz", "--worker", "--seed", str(seed),
-                   "--start", str(start), "--end", str(end), "--progress", progress,
-                   "--data", str(data), "--cli-every", str(cli_every)]
-            if cli:
-                cmd += ["--cli", cli]
-            last = start - 1
-            new_bad = []
-            with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
-                assert p.stdout is not None  # stdout=PIPE
-                for line in p.stdout:
-                    i, outcome, detail = json.loads(line)
-                    last = i
-                    counts[outcome] += 1
-                    if outcome in BAD:
-                        new_bad.append((i, outcome, detail))
-            if last + 1 < end:  # the worker died on case last + 1
-                i = last + 1
-                counts["crash"] += 1
-                new_bad.append((i, "crash", f"worker exit {p.returncode}"))
-                last = i
-            start = last + 1
-            if regressions is not None:
-                for i, outcome, detail in new_bad:
-                    _, data_i, options = make_case(seed, i, corpus)
-                    _save_regression(Path(regressions), data_i, options, outcome, detail)
-            bad += new_bad
-            if verbose:
-                print(f"{start}/{cases} {time.monotonic() - t0:.0f} s {dict(counts)}",
-                      file=sys.stderr, flush=True)
+    done_cases = 0
+    starts = iter(range(0, cases, chunk))
+    with tempfile.TemporaryDirectory() as d, ThreadPoolExecutor(max(1, jobs)) as pool:
+        running: dict = {}
+
+        def submit() -> bool:
+            if minutes is not None and time.monotonic() - t0 >= 60 * minutes:
+                return False
+            s0 = next(starts, None)
+            if s0 is None:
+                return False
+            e0 = min(cases, s0 + chunk)
+            f = pool.submit(_chunk, seed, s0, e0, data, cli, cli_every, os.path.join(d, f"progress{s0}"))
+            running[f] = (s0, e0)
+            return True
+
+        for _ in range(max(1, jobs)):
+            submit()
+        while running:
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for f in finished:
+                s0, e0 = running.pop(f)
+                c, new_bad = f.result()
+                counts.update(c)
+                done_cases += e0 - s0
+                if regressions is not None:
+                    for i, outcome, detail in new_bad:
+                        _, data_i, options = make_case(seed, i, corpus)
+                        _save_regression(Path(regressions), data_i, options, outcome, detail)
+                bad += new_bad
+                if verbose:
+                    print(f"{done_cases}/{cases} {time.monotonic() - t0:.0f} s {dict(counts)}",
+                          file=sys.stderr, flush=True)
+                submit()
+    bad.sort()
     return counts, bad
 
 
@@ -538,6 +572,7 @@ def main(argv=None) -> int:
                     help="stop after the chunk that passes this wall-clock budget")
     ap.add_argument("--regressions", type=Path, default=Path("tests/data/fuzz_regressions"))
     ap.add_argument("--no-save", action="store_true", help="do not write regression inputs")
+    ap.add_argument("--jobs", type=int, default=1, help="chunks run at a time (worker processes)")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--start", type=int, default=0, help=argparse.SUPPRESS)
     ap.add_argument("--end", type=int, default=0, help=argparse.SUPPRESS)
@@ -547,7 +582,7 @@ def main(argv=None) -> int:
         return _worker(args)
     counts, bad = run(args.cases, args.seed, args.data, args.cli, args.cli_every,
                       None if args.no_save else args.regressions, args.chunk, verbose=True,
-                      minutes=args.minutes)
+                      minutes=args.minutes, jobs=args.jobs)
     print(json.dumps({"cases": sum(counts.values()), **{k: counts.get(k, 0) for k in OUTCOMES}}))
     for i, outcome, detail in bad[:50]:
         print(f"case {i}: {outcome}: {detail}")
