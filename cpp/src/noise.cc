@@ -18,8 +18,12 @@ void CheckSquareFinite(const Eigen::MatrixXd& m, const std::string& what, const 
 
 void CheckSymmetric(const Eigen::MatrixXd& m, const std::string& what, const char* kind) {
   const double scale = std::max(1.0, m.cwiseAbs().maxCoeff());
-  BOXPLUS_CHECK((m - m.transpose()).cwiseAbs().maxCoeff() <= 1e-9 * scale, what, ": ", kind,
-                " is not symmetric");
+  double asymmetry = 0.0;  // max |mᵢⱼ − mⱼᵢ|, without a temporary matrix
+  for (Eigen::Index j = 0; j < m.cols(); ++j) {
+    for (Eigen::Index i = 0; i < j; ++i)
+      asymmetry = std::max(asymmetry, std::abs(m(i, j) - m(j, i)));
+  }
+  BOXPLUS_CHECK(asymmetry <= 1e-9 * scale, what, ": ", kind, " is not symmetric");
 }
 
 // Lower Cholesky factor of an SPD matrix, or a named error.
@@ -84,6 +88,21 @@ NoiseModel NoiseModel::Covariance(const Eigen::MatrixXd& covariance, const std::
 }
 
 NoiseModel NoiseModel::Information(const Eigen::MatrixXd& information, const std::string& what) {
+  if (information.rows() <= 6 && information.rows() == information.cols() &&
+      information.rows() > 0) {
+    // The pose-graph sizes, on the stack (one model per edge of a big graph).
+    using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+    CheckSquareFinite(information, what, "information matrix");
+    CheckSymmetric(information, what, "information matrix");
+    const Eigen::LLT<Small> llt{Small(information)};
+    const Small L = llt.matrixL();
+    BOXPLUS_CHECK(llt.info() == Eigen::Success && L.diagonal().minCoeff() > 0 && L.allFinite(),
+                  what, ": information matrix is not positive definite");
+    const Small inverse =
+        L.triangularView<Eigen::Lower>().solve(Small::Identity(L.rows(), L.rows()));
+    BOXPLUS_CHECK(inverse.allFinite(), what, ": information matrix is numerically singular");
+    return NoiseModel(Form::kInformation, L.transpose());
+  }
   const Eigen::MatrixXd L = CholeskyLower(information, what, "information matrix");
   // U⁻¹ is formed only to refuse an Ω whose un-whitening would overflow.
   BOXPLUS_CHECK(LowerInverse(L).allFinite(), what, ": information matrix is numerically singular");

@@ -67,6 +67,10 @@ class Problem {
   Problem(const Problem&) = delete;
   Problem& operator=(const Problem&) = delete;
 
+  // Room for this many variables and measurements (a pose graph knows its
+  // size), so adding them needs no regrowth of the storage.
+  void Reserve(int variables, int measurements);
+
   // Adds a variable with initial value `init` (manifold->AmbientSize()
   // doubles) and returns its id (0, 1, 2, ... in order of addition).
   // Values on SO(3), SE(3) and S² (also as members of a ProductManifold) must

@@ -201,6 +201,7 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
     return EdgeName(e);
   });
   var_of_vertex_.reserve(graph_.vertices.size());
+  problem_.Reserve(static_cast<int>(graph_.vertices.size()), static_cast<int>(graph_.edges.size()));
   for (const io::Vertex& v : graph_.vertices) {
     try {
       var_of_vertex_.push_back(
@@ -238,12 +239,19 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
 void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
   const int a = var_of_vertex_[graph_.EndIndex(e, 0)];
   const int b = var_of_vertex_[graph_.EndIndex(e, 1)];
-  const std::string name = EdgeName(e);
   try {
     // One model per edge: the factor whitens with it and the problem keeps it
     // to un-whiten the edge's error. SE-Sync's chordal residual is whitened
-    // by the model of its own error (chordal_relative_pose.h).
-    const NoiseModel noise = NoiseModel::Information(e.information, name + " information");
+    // by the model of its own error (chordal_relative_pose.h). The edge's
+    // name is formatted only for a refusal (the second call throws again,
+    // naming it): a string per edge was a tenth of a big graph's build.
+    const NoiseModel noise = [&] {
+      try {
+        return NoiseModel::Information(e.information, std::string());
+      } catch (const Error&) {
+        return NoiseModel::Information(e.information, EdgeName(e) + " information");
+      }
+    }();
     const bool chordal = options_.convention == PoseErrorConvention::kSESync &&
                          (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
     // The edges added in file order are named by the namer (no string each).
@@ -251,14 +259,14 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
     problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention),
                             io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b},
                             chordal ? ChordalNoise(noise) : noise, loss_,
-                            derived_name ? std::string() : name);
+                            derived_name ? std::string() : EdgeName(e));
     if (derived_name) ++named_edges_;
   } catch (const ParseError&) {
     throw;
   } catch (const Error& err) {
     // A factory's complaint about the measurement names the file's line.
     if (graph_.name.empty() || e.line <= 0) throw;
-    throw ParseError(io::Escaped(graph_.name), e.line, name + ": " + err.what());
+    throw ParseError(io::Escaped(graph_.name), e.line, EdgeName(e) + ": " + err.what());
   }
 }
 
