@@ -25,7 +25,7 @@ CPU seconds are reported beside wall seconds: on a shared machine they are the
 steadier figure of a single-threaded run.
 
 usage: python bench/bench_scale.py [--cache DIR] [--iterations 3] [--only 2d|3d]
-        [--threads 2] [--json PATH]
+        [--threads 2] [--systems boxplus g2o gtsam] [--timeout S] [--json PATH]
 """
 
 from __future__ import annotations
@@ -123,11 +123,20 @@ def run_g2o(path: str, iterations: int, dimension: int) -> dict:
 
 
 def run_gtsam(path: str, iterations: int, dimension: int) -> dict:
+    import tempfile
+
     import gtsam
 
+    # GTSAM's 2D reader stops at the first line it does not know (a FIX line
+    # ends the file for it): it reads a copy with the VERTEX/EDGE lines only,
+    # made before the clock starts; the first pose is fixed below, as for the others.
+    clean = Path(tempfile.mkdtemp()) / "graph.g2o"
+    with open(path) as src, open(clean, "w") as dst:
+        dst.writelines(ln for ln in src if ln.startswith(("VERTEX", "EDGE")))
     t = _clock()
-    graph, values = gtsam.readG2o(path, dimension == 3)
+    graph, values = gtsam.readG2o(str(clean), dimension == 3)
     read = _since(t)
+    clean.unlink()
     first = min(values.keys())
     g = gtsam.NonlinearFactorGraph(graph)
     if dimension == 3:
@@ -146,16 +155,24 @@ def run_gtsam(path: str, iterations: int, dimension: int) -> dict:
         opt.iterate()
         times.append(time.perf_counter() - w)
     solve = _since(t)
+    if graph.size() == 0:
+        raise RuntimeError(f"GTSAM read no factor from {path}")
     return {"read": read, "setup": setup, "solve": solve, "iterations": iterations, "iteration_s": times,
             "chi2": 2 * graph.error(opt.values()), "edges": graph.size(), "peak_mb": _peak_mb()}
 
 
-def _child(system: str, path: str, iterations: int, dimension: int, threads: int) -> dict:
-    """Runs one system in a fresh process: its peak memory is its own."""
+def _child(system: str, path: str, iterations: int, dimension: int, threads: int,
+           timeout: float | None = None) -> dict:
+    """Runs one system in a fresh process: its peak memory is its own; a run
+    past ``timeout`` seconds is stopped and reported as such."""
     code = (f"import sys, json; sys.path.insert(0, {str(Path(__file__).parent)!r}); import bench_scale as b; "
             f"print(json.dumps(b._dispatch({system!r}, {path!r}, {iterations}, {dimension}, {threads})))")
     env = dict(os.environ, OPENBLAS_NUM_THREADS=str(threads), OMP_NUM_THREADS=str(threads))
-    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    try:
+        p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                           timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"error": f"not finished after {timeout:.0f} s (stopped)"}
     if p.returncode != 0:
         return {"error": (p.stderr or p.stdout)[-400:]}
     return json.loads(p.stdout.strip().splitlines()[-1])
@@ -177,6 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--threads", type=int, default=2, help="also run boxplus on this many threads (1: no)")
     ap.add_argument("--systems", nargs="*", default=["boxplus", "g2o", "gtsam"])
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--timeout", type=float, default=None, help="seconds a system may take (default: no limit)")
     args = ap.parse_args(argv)
     results: dict = {}
     for key in args.only:
@@ -189,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
         results[key] = {}
         for system, threads in runs:
             name = system if threads == 1 else f"{system} ({threads} threads)"
-            r = _child(system, str(path), args.iterations, dim, threads)
+            r = _child(system, str(path), args.iterations, dim, threads, args.timeout)
             results[key][name] = r
             if "error" in r:
                 print(f"  {name:22s} failed: {r['error']}", flush=True)
