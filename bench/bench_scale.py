@@ -24,7 +24,7 @@ interpreter with numpy is about 40 MB of it). Ratios are boxplus over each peer.
 CPU seconds are reported beside wall seconds: on a shared machine they are the
 steadier figure of a single-threaded run.
 
-usage: python bench/bench_scale.py [--cache DIR] [--iterations 3] [--only 2d|3d]
+usage: python bench/bench_scale.py [--cache DIR] [--iterations 2] [--only 2d|3d]
         [--threads 2] [--systems boxplus g2o gtsam] [--timeout S] [--json PATH]
 """
 
@@ -189,12 +189,12 @@ def _dispatch(system: str, path: str, iterations: int, dimension: int, threads: 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cache", type=Path, default=Path("build/bench-scale"))
-    ap.add_argument("--iterations", type=int, default=3)
+    ap.add_argument("--iterations", type=int, default=2)
     ap.add_argument("--only", choices=sorted(GRAPHS), nargs="*", default=sorted(GRAPHS))
     ap.add_argument("--threads", type=int, default=2, help="also run boxplus on this many threads (1: no)")
     ap.add_argument("--systems", nargs="*", default=["boxplus", "g2o", "gtsam"])
     ap.add_argument("--json", type=Path, default=None)
-    ap.add_argument("--timeout", type=float, default=None, help="seconds a system may take (default: no limit)")
+    ap.add_argument("--timeout", type=float, default=900.0, help="seconds a system may take")
     args = ap.parse_args(argv)
     results: dict = {}
     for key in args.only:
