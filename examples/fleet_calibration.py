@@ -269,8 +269,11 @@ def _dask_executor(workers: int, address: str | None):
     if address:
         client = Client(address)
         return client, client.close
+    # Any free port for the scheduler's HTTP server: with None it takes 8787,
+    # and a second cluster on the machine (another run, another test suite)
+    # then fails to start.
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None)
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0")
     client = Client(cluster)
 
     def close() -> None:
