@@ -26,20 +26,36 @@ void CheckSymmetric(const Eigen::MatrixXd& m, const std::string& what, const cha
   BOXPLUS_CHECK(asymmetry <= 1e-9 * scale, what, ": ", kind, " is not symmetric");
 }
 
-// Lower Cholesky factor of an SPD matrix, or a named error.
-Eigen::MatrixXd CholeskyLower(const Eigen::MatrixXd& m, const std::string& what, const char* kind) {
+// Lower Cholesky factor of an SPD matrix, or a named error. Matrix is
+// MatrixXd, or a type with at most 6 × 6 on the stack for the pose-graph
+// sizes (one model per edge of a big graph; a heap matrix per step was most
+// of the model's cost).
+template <class Matrix = Eigen::MatrixXd>
+Matrix CholeskyLower(const Eigen::MatrixXd& m, const std::string& what, const char* kind) {
   CheckSquareFinite(m, what, kind);
   CheckSymmetric(m, what, kind);
-  Eigen::LLT<Eigen::MatrixXd> llt(m);
+  const Eigen::LLT<Matrix> llt{Matrix(m)};
   BOXPLUS_CHECK(llt.info() == Eigen::Success, what, ": ", kind, " is not positive definite");
-  Eigen::MatrixXd L = llt.matrixL();
+  Matrix L = llt.matrixL();
   BOXPLUS_CHECK(L.diagonal().minCoeff() > 0 && L.allFinite(), what, ": ", kind,
                 " is not positive definite");
   return L;
 }
 
-Eigen::MatrixXd LowerInverse(const Eigen::MatrixXd& L) {
-  return L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(L.rows(), L.rows()));
+template <class Matrix>
+Matrix LowerInverse(const Matrix& L) {
+  return L.template triangularView<Eigen::Lower>().solve(Matrix::Identity(L.rows(), L.rows()));
+}
+
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+
+// UᵀU = LLᵀ = Ω; U⁻¹ is formed only to refuse an Ω whose un-whitening would overflow.
+template <class Matrix>
+Eigen::MatrixXd UpperFactorOfInformation(const Eigen::MatrixXd& information,
+                                         const std::string& what) {
+  const Matrix L = CholeskyLower<Matrix>(information, what, "information matrix");
+  BOXPLUS_CHECK(LowerInverse(L).allFinite(), what, ": information matrix is numerically singular");
+  return L.transpose();
 }
 
 }  // namespace
@@ -88,25 +104,10 @@ NoiseModel NoiseModel::Covariance(const Eigen::MatrixXd& covariance, const std::
 }
 
 NoiseModel NoiseModel::Information(const Eigen::MatrixXd& information, const std::string& what) {
-  if (information.rows() <= 6 && information.rows() == information.cols() &&
-      information.rows() > 0) {
-    // The pose-graph sizes, on the stack (one model per edge of a big graph).
-    using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-    CheckSquareFinite(information, what, "information matrix");
-    CheckSymmetric(information, what, "information matrix");
-    const Eigen::LLT<Small> llt{Small(information)};
-    const Small L = llt.matrixL();
-    BOXPLUS_CHECK(llt.info() == Eigen::Success && L.diagonal().minCoeff() > 0 && L.allFinite(),
-                  what, ": information matrix is not positive definite");
-    const Small inverse =
-        L.triangularView<Eigen::Lower>().solve(Small::Identity(L.rows(), L.rows()));
-    BOXPLUS_CHECK(inverse.allFinite(), what, ": information matrix is numerically singular");
-    return NoiseModel(Form::kInformation, L.transpose());
-  }
-  const Eigen::MatrixXd L = CholeskyLower(information, what, "information matrix");
-  // U⁻¹ is formed only to refuse an Ω whose un-whitening would overflow.
-  BOXPLUS_CHECK(LowerInverse(L).allFinite(), what, ": information matrix is numerically singular");
-  return NoiseModel(Form::kInformation, L.transpose());  // UᵀU = LLᵀ = Ω
+  const bool small = information.rows() <= 6 && information.cols() <= 6;
+  return NoiseModel(Form::kInformation,
+                    small ? UpperFactorOfInformation<Small>(information, what)
+                          : UpperFactorOfInformation<Eigen::MatrixXd>(information, what));
 }
 
 NoiseModel NoiseModel::SqrtInformation(const Eigen::MatrixXd& sqrt_information,
