@@ -10,18 +10,18 @@
 namespace boxplus::internal {
 namespace {
 
-void NormaliseUnit(double* v, int n, const char* kind, const std::string& what) {
+void NormaliseUnit(double* v, int n, const char* kind, const DescribeValue& what) {
   Eigen::Map<Eigen::VectorXd> x(v, n);
   const double norm = x.stableNorm();
-  BOXPLUS_CHECK(norm > 0.0, what, ": the ", kind, " is zero");
-  BOXPLUS_CHECK(std::isfinite(norm) && std::abs(norm - 1.0) <= kUnitTolerance, what, ": the ", kind,
-                " has norm ", norm, ", not 1 (within ", kUnitTolerance, ")");
+  BOXPLUS_CHECK(norm > 0.0, what(), ": the ", kind, " is zero");
+  BOXPLUS_CHECK(std::isfinite(norm) && std::abs(norm - 1.0) <= kUnitTolerance, what(), ": the ",
+                kind, " has norm ", norm, ", not 1 (within ", kUnitTolerance, ")");
   x /= norm;
 }
 
 }  // namespace
 
-void NormaliseAmbient(const ceres::Manifold& manifold, double* x, const std::string& what) {
+void NormaliseAmbient(const ceres::Manifold& manifold, double* x, const DescribeValue& what) {
   if (dynamic_cast<const SO3Manifold*>(&manifold)) {
     NormaliseUnit(x, 4, "quaternion [x, y, z, w]", what);
   } else if (dynamic_cast<const SE3Manifold*>(&manifold)) {
@@ -31,7 +31,7 @@ void NormaliseAmbient(const ceres::Manifold& manifold, double* x, const std::str
   } else if (const auto* product = dynamic_cast<const ProductManifold*>(&manifold)) {
     for (int i = 0; i < product->num_members(); ++i) {
       NormaliseAmbient(product->member(i), x + product->ambient_offset(i),
-                       what + ", member " + std::to_string(i));
+                       [&what, i] { return what() + ", member " + std::to_string(i); });
     }
   }
 }

@@ -60,6 +60,17 @@ std::ostream& operator<<(std::ostream& out, const MeasurementWhat& w) {
   return out << "measurement '" << w.name << "'";
 }
 
+// "variable 12" or "variable 'name'", as MeasurementWhat.
+struct VariableWhat {
+  int id;
+  const std::string& name;
+};
+
+std::ostream& operator<<(std::ostream& out, const VariableWhat& w) {
+  if (w.name.empty()) return out << "variable " << w.id;
+  return out << "variable '" << w.name << "'";
+}
+
 ceres::Problem::Options NonOwningOptions(ceres::EvaluationCallback* callback) {
   ceres::Problem::Options o;
   o.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -128,7 +139,7 @@ int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const 
                          const std::string& name) {
   const Busy busy(*this, "AddVariable");
   const int id = num_variables();
-  const std::string what = "variable " + (name.empty() ? std::to_string(id) : "'" + name + "'");
+  const VariableWhat what{id, name};
   BOXPLUS_CHECK(manifold != nullptr, what, ": no manifold");
   const int n = manifold->AmbientSize();
   const int t = manifold->TangentSize();
@@ -149,11 +160,30 @@ int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const 
     vars_.pop_back();  // validate before the problem changes
     throw;
   }
-  Variable& var = *vars_.back();
-  problem_->AddParameterBlock(
-      var.data.get(), n,
-      var.euclidean ? nullptr : const_cast<ceres::Manifold*>(var.manifold.get()));
   return id;
+}
+
+// Ceres' blocks are added on the first use of its problem, not by
+// AddVariable/AddMeasurement: the line-search solver never uses them, and on
+// a pose graph they were about 40 % of the build time and most of the
+// teardown. Variables first, then measurements, each in id order: the same
+// problem Ceres would hold had they been added one by one.
+ceres::Problem* Problem::CeresProblem() {
+  for (; ceres_vars_ < num_variables(); ++ceres_vars_) {
+    Variable& var = *vars_[ceres_vars_];
+    problem_->AddParameterBlock(
+        var.data.get(), var.manifold->AmbientSize(),
+        var.euclidean ? nullptr : const_cast<ceres::Manifold*>(var.manifold.get()));
+    if (var.fixed) problem_->SetParameterBlockConstant(var.data.get());
+  }
+  std::vector<double*> blocks;
+  for (; ceres_meas_ < num_measurements(); ++ceres_meas_) {
+    Measurement& m = meas_[ceres_meas_];
+    blocks.clear();
+    for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
+    m.block = problem_->AddResidualBlock(m.cost.get(), m.loss.get(), blocks);
+  }
+  return problem_.get();
 }
 
 // Copies a finite ambient value into the variable's storage, its unit parts
@@ -161,13 +191,22 @@ int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const 
 void Problem::StoreValue(int id, const double* ambient, const char* what) {
   Variable& v = *vars_[id];
   const int n = v.manifold->AmbientSize();
-  std::vector<double> x(ambient, ambient + n);
+  // Checked and normalised in a copy: a refused value leaves the old one.
+  constexpr int kSmall = 16;
+  double small[kSmall];
+  std::vector<double> large;
+  double* x = small;
+  if (n > kSmall) {
+    large.resize(n);
+    x = large.data();
+  }
+  std::copy(ambient, ambient + n, x);
   for (int i = 0; i < n; ++i) {
     BOXPLUS_CHECK(std::isfinite(x[i]), "variable '", v.name, "': ", what,
                   " has a non-finite entry (", i, ")");
   }
-  internal::NormaliseAmbient(*v.manifold, x.data(), "variable '" + v.name + "'");
-  std::copy(x.begin(), x.end(), v.data.get());
+  internal::NormaliseAmbient(*v.manifold, x, [&v] { return "variable '" + v.name + "'"; });
+  std::copy(x, x + n, v.data.get());
 }
 
 const std::string& Problem::variable_name(int id) const {
@@ -191,6 +230,7 @@ void Problem::SetFixed(int id, bool fixed) {
   const Busy busy(*this, "SetFixed");
   CheckVariable(id);
   vars_[id]->fixed = fixed;
+  if (id >= ceres_vars_) return;  // CeresProblem() applies it when it adds the block
   if (fixed) {
     problem_->SetParameterBlockConstant(vars_[id]->data.get());
   } else {
@@ -212,7 +252,7 @@ void Problem::Reserve(int variables, int measurements) {
 }
 
 int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
-                            const std::vector<int>& var_ids, const NoiseModel& noise,
+                            const std::vector<int>& var_ids, NoiseModel noise,
                             std::shared_ptr<ceres::LossFunction> loss, const std::string& name) {
   const Busy busy(*this, "AddMeasurement");
   const int id = num_measurements();
@@ -225,8 +265,6 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
   BOXPLUS_CHECK(cost->num_residuals() > 0, what, ": has no residuals");
   BOXPLUS_CHECK(noise.dim() == 0 || cost->num_residuals() % noise.dim() == 0, what,
                 ": noise of dimension ", noise.dim(), " for ", cost->num_residuals(), " residuals");
-  std::vector<double*> blocks;
-  blocks.reserve(var_ids.size());
   for (size_t k = 0; k < var_ids.size(); ++k) {
     const int v = var_ids[k];
     BOXPLUS_CHECK_INDEX(v >= 0 && v < num_variables(), what, ": unknown variable id ", v,
@@ -236,7 +274,6 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
     BOXPLUS_CHECK(sizes[k] == vars_[v]->manifold->AmbientSize(), what, ": argument ", k,
                   " expects ", sizes[k], " ambient coordinates but variable '", vars_[v]->name,
                   "' has ", vars_[v]->manifold->AmbientSize());
-    blocks.push_back(vars_[v]->data.get());
   }
   // Ceres' evaluation buffers hold nr × ambient per block, its Jacobian
   // nr × tangent per block summed over the problem, JᵀJ a dense
@@ -263,9 +300,8 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
   m.cost = std::move(cost);
   m.loss = std::move(loss);
   m.vars = var_ids;
-  m.noise = noise;
+  m.noise = std::move(noise);
   m.name = name;
-  m.block = problem_->AddResidualBlock(m.cost.get(), m.loss.get(), blocks);
   meas_.push_back(std::move(m));
   return id;
 }
@@ -315,7 +351,7 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
   auto trust_region = [this](const SolverOptions& o) {
     std::vector<internal::LsqBlock> blocks;
     for (const auto& v : vars_) blocks.push_back({v->data.get(), v->manifold.get(), v->fixed});
-    return internal::SolveTrustRegion(problem_.get(), blocks, o);
+    return internal::SolveTrustRegion(CeresProblem(), blocks, o);
   };
   if (options.method == Method::kGaussNewtonLineSearch) {
     out = SolveByLineSearch(options);
@@ -405,7 +441,7 @@ double Problem::Cost() {
   const Busy busy(*this, "Cost");
   double cost = 0.0;
   ceres::Problem::EvaluateOptions eo;
-  if (!problem_->Evaluate(eo, &cost, nullptr, nullptr, nullptr)) {
+  if (!CeresProblem()->Evaluate(eo, &cost, nullptr, nullptr, nullptr)) {
     throw ::boxplus::Error("evaluating the cost failed; " + FirstNonFiniteMeasurement());
   }
   return cost;
@@ -413,6 +449,7 @@ double Problem::Cost() {
 
 JacobianEvaluation Problem::EvaluateJacobian() {
   const Busy busy(*this, "EvaluateJacobian");
+  ceres::Problem* ceres = CeresProblem();  // before reading the residual blocks' ids
   JacobianEvaluation out;
   ceres::Problem::EvaluateOptions eo;
   int cols = 0;
@@ -435,7 +472,7 @@ JacobianEvaluation Problem::EvaluateJacobian() {
   double cost = 0.0;
   std::vector<double> residuals;
   ceres::CRSMatrix crs;
-  if (!problem_->Evaluate(eo, &cost, &residuals, nullptr, &crs)) {
+  if (!ceres->Evaluate(eo, &cost, &residuals, nullptr, &crs)) {
     throw ::boxplus::Error("evaluating the Jacobian failed; " + FirstNonFiniteMeasurement());
   }
   BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols, "Jacobian has an unexpected shape");
@@ -489,7 +526,7 @@ Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
   }
   std::string names;
   for (int id : ids) names += (names.empty() ? "'" : ", '") + vars_[id]->name + "'";
-  BOXPLUS_CHECK(cov.Compute(pairs, problem_.get()), "covariance of ", names,
+  BOXPLUS_CHECK(cov.Compute(pairs, CeresProblem()), "covariance of ", names,
                 " is undefined: the measurements do not determine every "
                 "parameter (rank-deficient Jacobian)");
   Eigen::MatrixXd out(total, total);

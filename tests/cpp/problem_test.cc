@@ -98,6 +98,39 @@ TEST(Problem, FixedVariablesDoNotMove) {
   EXPECT_THROW(p.Covariance(x), Error);
 }
 
+// Ceres' blocks are added on the first use of its problem (Cost, Jacobian,
+// covariance, a trust-region solve): what is added or fixed before and after
+// that use must all reach it.
+TEST(Problem, CeresSeesWhatIsAddedOrFixedAfterItsFirstUse) {
+  Problem p;
+  const SE2 a(Eigen::Vector2d(1, 1), 0.5), za(Eigen::Vector2d(2, 0), 0.1);
+  const SE2 b(Eigen::Vector2d(-1, 3), -0.5), zb(Eigen::Vector2d(0, 2), 0.3);
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  const int x = p.AddVariable(MakeManifold("SE2"), a.data());
+  p.AddMeasurement(PriorFunctor<SE2Ops>::Create(za.ambient(), I), {x});
+  const double ca = 0.5 * a.boxminus(za).squaredNorm();
+  EXPECT_NEAR(p.Cost(), ca, 1e-12);  // the first use
+
+  const int y = p.AddVariable(MakeManifold("SE2"), b.data());
+  p.SetFixed(y);  // before Ceres holds y
+  p.AddMeasurement(PriorFunctor<SE2Ops>::Create(zb.ambient(), I), {y});
+  EXPECT_NEAR(p.Cost(), ca + 0.5 * b.boxminus(zb).squaredNorm(), 1e-12);
+  const JacobianEvaluation j = p.EvaluateJacobian();
+  EXPECT_EQ(j.jacobian.rows(), 6);
+  EXPECT_EQ(j.jacobian.cols(), 3);  // y is fixed
+
+  SolverOptions lm = Tight();
+  lm.method = Method::kLevenbergMarquardt;
+  p.Solve(lm);
+  EXPECT_LT(SE2::FromAmbient(p.value(x)).boxminus(za).norm(), 1e-8);
+  EXPECT_EQ(SE2::FromAmbient(p.value(y)).boxminus(b).norm(), 0.0);
+
+  p.SetFixed(y, false);  // after Ceres holds y
+  p.Solve(lm);
+  EXPECT_LT(SE2::FromAmbient(p.value(y)).boxminus(zb).norm(), 1e-8);
+  EXPECT_NEAR(p.Cost(), 0.0, 1e-14);
+}
+
 TEST(Problem, BadInputRaisesNamedErrors) {
   Problem p;
   const SO3 r;

@@ -99,7 +99,7 @@ class Problem {
   // least squares). A measurement must depend on at least one variable, each
   // listed once, and its Jacobians must fit Ceres' int-indexed storage.
   int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
-                     const NoiseModel& noise, std::shared_ptr<ceres::LossFunction> loss = nullptr,
+                     NoiseModel noise, std::shared_ptr<ceres::LossFunction> loss = nullptr,
                      const std::string& name = "");
   int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
                      std::shared_ptr<ceres::LossFunction> loss = nullptr,
@@ -151,6 +151,8 @@ class Problem {
   void StoreValue(int id, const double* ambient, const char* what);
   SolveSummary SolveByLineSearch(const SolverOptions& options);
   std::string FirstNonFiniteMeasurement();
+  // The Ceres problem with every variable and measurement added so far.
+  ceres::Problem* CeresProblem();
 
   // The thread running Solve or an evaluation through Ceres (none when idle).
   mutable std::atomic<std::thread::id> busy_{};
@@ -159,6 +161,9 @@ class Problem {
   std::unique_ptr<HookDispatcher> hooks_;
   MeasurementNamer namer_;
   std::unique_ptr<ceres::Problem> problem_;
+  // How many variables and measurements problem_ holds (the first ones).
+  int ceres_vars_ = 0;
+  int ceres_meas_ = 0;
   std::vector<std::unique_ptr<Variable>> vars_;
   std::vector<Measurement> meas_;
 };

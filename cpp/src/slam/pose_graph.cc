@@ -245,7 +245,7 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
     // by the model of its own error (chordal_relative_pose.h). The edge's
     // name is formatted only for a refusal (the second call throws again,
     // naming it): a string per edge was a tenth of a big graph's build.
-    const NoiseModel noise = [&] {
+    NoiseModel noise = [&] {
       try {
         return NoiseModel::Information(e.information, std::string());
       } catch (const Error&) {
@@ -256,9 +256,10 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
                          (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
     // The edges added in file order are named by the namer (no string each).
     const bool derived_name = problem_.num_measurements() == named_edges_;
-    problem_.AddMeasurement(MakeEdgeCost(e, noise, options_.convention),
+    auto cost = MakeEdgeCost(e, noise, options_.convention);
+    problem_.AddMeasurement(std::move(cost),
                             io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b},
-                            chordal ? ChordalNoise(noise) : noise, loss_,
+                            chordal ? ChordalNoise(noise) : std::move(noise), loss_,
                             derived_name ? std::string() : EdgeName(e));
     if (derived_name) ++named_edges_;
   } catch (const ParseError&) {
