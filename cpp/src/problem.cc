@@ -47,28 +47,18 @@ class Problem::HookDispatcher final : public ceres::EvaluationCallback {
 
 namespace {
 
-// "measurement 12" or "measurement 'name'" in a message, formatted only when a
-// message is written (a pose graph adds 10⁵–10⁶ measurements, and most of
-// their set-up time is allocation).
-struct MeasurementWhat {
+// "measurement 12" or "variable 'name'" in a message, formatted only when a
+// message is written (a pose graph adds 10⁵–10⁶ variables and measurements,
+// and most of their set-up time was allocation).
+struct What {
+  const char* kind;  // "measurement", "variable"
   int id;
   const std::string& name;
 };
 
-std::ostream& operator<<(std::ostream& out, const MeasurementWhat& w) {
-  if (w.name.empty()) return out << "measurement " << w.id;
-  return out << "measurement '" << w.name << "'";
-}
-
-// "variable 12" or "variable 'name'", as MeasurementWhat.
-struct VariableWhat {
-  int id;
-  const std::string& name;
-};
-
-std::ostream& operator<<(std::ostream& out, const VariableWhat& w) {
-  if (w.name.empty()) return out << "variable " << w.id;
-  return out << "variable '" << w.name << "'";
+std::ostream& operator<<(std::ostream& out, const What& w) {
+  if (w.name.empty()) return out << w.kind << " " << w.id;
+  return out << w.kind << " '" << w.name << "'";
 }
 
 ceres::Problem::Options NonOwningOptions(ceres::EvaluationCallback* callback) {
@@ -139,7 +129,7 @@ int Problem::AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const 
                          const std::string& name) {
   const Busy busy(*this, "AddVariable");
   const int id = num_variables();
-  const VariableWhat what{id, name};
+  const What what{"variable", id, name};
   BOXPLUS_CHECK(manifold != nullptr, what, ": no manifold");
   const int n = manifold->AmbientSize();
   const int t = manifold->TangentSize();
@@ -256,7 +246,7 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
                             std::shared_ptr<ceres::LossFunction> loss, const std::string& name) {
   const Busy busy(*this, "AddMeasurement");
   const int id = num_measurements();
-  const MeasurementWhat what{id, name};
+  const What what{"measurement", id, name};
   BOXPLUS_CHECK(cost != nullptr, what, ": no cost function");
   BOXPLUS_CHECK(!var_ids.empty(), what, ": depends on no variable");
   const auto& sizes = cost->parameter_block_sizes();
