@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include "boxplus/factors/pose/bearing_range.h"
 #include "boxplus/factors/pose/chordal_relative_pose.h"
@@ -337,6 +338,103 @@ TEST(Initialization, RecoverANoiseFreeGraph) {
     for (int i = 0; i < n; ++i) {
       const SE3 x = SE3::FromAmbient(h.vertices[i].estimate.data());
       EXPECT_LT(x.boxminus(truth[i]).norm(), 1e-8) << i;
+    }
+  }
+}
+
+// The chordal relaxation against a dense solve of its own least squares
+// (rows of the rotations, projected by the SVD; then the translations'
+// Laplacian) on noisy 2D and 3D graphs with unequal weights: the 2D path
+// solves it as complex numbers, both reuse one ordering, the oracle does not.
+TEST(Initialization, ChordalSolvesTheRelaxationsLeastSquares) {
+  for (const int d : {2, 3}) {
+    std::mt19937 rng(7 + d);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    std::uniform_real_distribution<double> uni(-3.0, 3.0);
+    const int n = 25;
+    io::Graph g;
+    for (int i = 0; i < n; ++i) {
+      io::Vertex v;
+      v.id = i;
+      v.kind = d == 2 ? io::VertexKind::kSE2 : io::VertexKind::kSE3;
+      v.estimate =
+          d == 2 ? Eigen::VectorXd(SE2(Eigen::Vector2d(uni(rng), uni(rng)), uni(rng)).ambient())
+                 : Eigen::VectorXd(SE3::FromAmbient(RandomSE3(rng).data()).ambient());
+      g.AddVertex(v);
+    }
+    auto add = [&](int i, int j) {
+      io::Edge e;
+      e.kind = d == 2 ? io::EdgeKind::kSE2 : io::EdgeKind::kSE3;
+      e.from = i;
+      e.to = j;
+      const int t = d == 2 ? 3 : 6;
+      Eigen::VectorXd delta(t);
+      for (int k = 0; k < t; ++k) delta[k] = uni(rng) + noise(rng);
+      e.measurement = d == 2 ? Eigen::VectorXd(SE2().boxplus(delta).ambient())
+                             : Eigen::VectorXd(SE3().boxplus(delta).ambient());
+      Eigen::MatrixXd A = Eigen::MatrixXd::Random(t, t);
+      e.information = A * A.transpose() + Eigen::MatrixXd::Identity(t, t);
+      g.AddEdge(e);
+    };
+    for (int i = 0; i + 1 < n; ++i) add(i, i + 1);
+    for (int i = 0; i + 4 < n; i += 2) add(i + 4, i);
+
+    // The oracle: unknowns of poses 1..n−1 (pose 0 is the root).
+    const int m = n - 1;
+    auto rot = [&](const Eigen::VectorXd& x) -> Eigen::MatrixXd {
+      return d == 2 ? Eigen::MatrixXd(SE2::FromAmbient(x.data()).transform().topLeftCorner(2, 2))
+                    : Eigen::MatrixXd(SE3::FromAmbient(x.data()).transform().topLeftCorner(3, 3));
+    };
+    const Eigen::MatrixXd R0 = rot(g.vertices[0].estimate);
+    const Eigen::VectorXd t0 = g.vertices[0].estimate.head(d);
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(m * d, m * d), b = Eigen::MatrixXd::Zero(m * d, d);
+    Eigen::MatrixXd L = Eigen::MatrixXd::Zero(m, m);
+    for (const io::Edge& e : g.edges) {
+      const ChordalPrecisions p = ChordalPrecisionsOfInformation(e.information);
+      const Eigen::MatrixXd Z = rot(e.measurement);
+      const int i = e.from - 1, j = e.to - 1;  // −1: the root
+      // ‖X_j − Zᵀ X_i‖² with X_u = R_uᵀ (its columns are R_u's rows).
+      if (i >= 0) H.block(i * d, i * d, d, d) += p.kappa * Eigen::MatrixXd::Identity(d, d);
+      if (j >= 0) H.block(j * d, j * d, d, d) += p.kappa * Eigen::MatrixXd::Identity(d, d);
+      if (i >= 0 && j >= 0) {
+        H.block(i * d, j * d, d, d) -= p.kappa * Z;
+        H.block(j * d, i * d, d, d) -= p.kappa * Z.transpose();
+      } else if (j >= 0) {
+        b.block(j * d, 0, d, d) += p.kappa * Z.transpose() * R0.transpose();
+      } else {
+        b.block(i * d, 0, d, d) += p.kappa * Z * R0.transpose();
+      }
+      if (i >= 0) L(i, i) += p.tau;
+      if (j >= 0) L(j, j) += p.tau;
+      if (i >= 0 && j >= 0) L(i, j) = L(j, i) = L(i, j) - p.tau;
+    }
+    const Eigen::MatrixXd X = H.ldlt().solve(b);
+    std::vector<Eigen::MatrixXd> R(n, R0);
+    for (int u = 0; u < m; ++u) {
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(X.block(u * d, 0, d, d).transpose(),
+                                            Eigen::ComputeFullU | Eigen::ComputeFullV);
+      Eigen::MatrixXd D = Eigen::MatrixXd::Identity(d, d);
+      D(d - 1, d - 1) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+      R[u + 1] = svd.matrixU() * D * svd.matrixV().transpose();
+    }
+    Eigen::MatrixXd c = Eigen::MatrixXd::Zero(m, d);
+    for (const io::Edge& e : g.edges) {
+      const double tau = ChordalPrecisionsOfInformation(e.information).tau;
+      const Eigen::VectorXd tij = R[e.from] * e.measurement.head(d);  // t_j − t_i ≈ R_i t_ij
+      const int i = e.from - 1, j = e.to - 1;
+      if (i >= 0) c.row(i) -= tau * tij.transpose();
+      if (j >= 0) c.row(j) += tau * tij.transpose();
+      if (i < 0) c.row(j) += tau * t0.transpose();
+      if (j < 0) c.row(i) += tau * t0.transpose();
+    }
+    const Eigen::MatrixXd t = L.ldlt().solve(c);
+
+    io::Graph h = g;
+    slam::InitializeChordal(&h);
+    for (int u = 0; u < m; ++u) {
+      const Eigen::VectorXd& x = h.vertices[u + 1].estimate;
+      EXPECT_LT((rot(x) - R[u + 1]).norm(), 1e-9) << d << "D pose " << u + 1;
+      EXPECT_LT((x.head(d) - t.row(u).transpose()).norm(), 1e-8) << d << "D pose " << u + 1;
     }
   }
 }

@@ -1,6 +1,7 @@
 #include "boxplus/slam/initialization.h"
 
 #include <cmath>
+#include <complex>
 #include <queue>
 #include <sstream>
 #include <string>
@@ -269,10 +270,81 @@ void InitializeSpanningTree(Graph* g, int root_id) {
   PlaceLandmarks(g, done);
 }
 
-void InitializeChordal(Graph* g, int root_id) {
-  const int root = RootIndex(*g, root_id);
-  CheckConnected(*g, root);
-  const int d = g->dimension == 3 ? 3 : 2;
+namespace {
+
+// The rotation nearest to M in the Frobenius norm (argmax tr(RᵀM) over
+// SO(3)): the projection of the relaxation's solution, by the SVD with the
+// sign of the last singular vector fixed.
+Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& M) {
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+  return svd.matrixU() * D * svd.matrixV().transpose();
+}
+
+struct PoseEdge {
+  int k, i, j;  // edge index, vertex indices of its ends
+};
+
+// The rotations of the 2D relaxation as complex numbers, y_u = e^{iθ_u}: the
+// residual of edge i→j with z = e^{iφ_ij} is y_j − z y_i (weight κ), so H is
+// Hermitian n×n with H_ii += κ, H_jj += κ, H_ij = −κ z̄, H_ji = −κ z. The same
+// least squares as the real system on the rows of R_u (whose D = 2 right-hand
+// sides differ by a quarter turn), with a quarter of its non-zeros; the
+// nearest rotation to y_u is y_u/|y_u|.
+void ChordalRotations2D(const Graph& g, const std::vector<PoseEdge>& edges,
+                        const std::vector<double>& kappa, const std::vector<int>& unk,
+                        const Eigen::VectorXi& order, const Eigen::Matrix2d& R_root,
+                        std::vector<Eigen::Matrix2d>* R) {
+  using C = std::complex<double>;
+  const int n = static_cast<int>(order.size());
+  const C y_root(R_root(0, 0), R_root(1, 0));
+  std::vector<Eigen::Triplet<C>> trip;
+  trip.reserve(4 * edges.size());
+  Eigen::VectorXcd rhs = Eigen::VectorXcd::Zero(n);
+  for (const PoseEdge& pe : edges) {
+    const double phi = g.edges[pe.k].measurement[2];
+    const C z(std::cos(phi), std::sin(phi));
+    const double kap = kappa[pe.k];
+    const int bi = unk[pe.i] >= 0 ? order[unk[pe.i]] : -1;
+    const int bj = unk[pe.j] >= 0 ? order[unk[pe.j]] : -1;
+    if (bi >= 0) trip.emplace_back(bi, bi, kap);
+    if (bj >= 0) trip.emplace_back(bj, bj, kap);
+    if (bi >= 0 && bj >= 0) {
+      trip.emplace_back(bi, bj, -kap * std::conj(z));
+      trip.emplace_back(bj, bi, -kap * z);
+    } else if (bj >= 0) {  // i is the root
+      rhs[bj] += kap * z * y_root;
+    } else if (bi >= 0) {  // j is the root
+      rhs[bi] += kap * std::conj(z) * y_root;
+    }
+  }
+  Eigen::SparseMatrix<C> H(n, n);
+  H.setFromTriplets(trip.begin(), trip.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<C>, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt(H);
+  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, SingularSystem(g, "rotation", kappa));
+  const Eigen::VectorXcd y = ldlt.solve(rhs);
+  BOXPLUS_CHECK(y.allFinite(), SingularSystem(g, "rotation", kappa));
+  for (size_t i = 0; i < unk.size(); ++i) {
+    if (unk[i] < 0) continue;
+    const C yi = y[order[unk[i]]];
+    const double r = std::abs(yi);
+    const double c = r > 0.0 ? yi.real() / r : 1.0, s = r > 0.0 ? yi.imag() / r : 0.0;
+    (*R)[i] << c, -s, s, c;
+  }
+}
+
+// The chordal relaxation in dimension D (Carlone et al., ICRA 2015):
+// rotations by linear least squares on their rows, projected onto SO(D),
+// then translations by the weighted Laplacian.
+//
+// Both systems have the pattern of the pose graph (the rotation system with
+// D×D blocks), so one fill-reducing ordering serves both: AMD on the n×n
+// Laplacian, block-expanded for the rotations (ordering the Dn×Dn scalar
+// system by itself took as long as factorising it).
+template <int D>
+void ChordalStart(Graph* g, int root) {
+  using Mat = Eigen::Matrix<double, D, D>;
   // Unknown index of each pose (the root is eliminated).
   std::vector<int> unk(g->vertices.size(), -1);
   int n = 0;
@@ -281,89 +353,107 @@ void InitializeChordal(Graph* g, int root_id) {
   }
   if (n == 0) return;
   const Eigen::Matrix4d T_root = ToMatrix(g->vertices[root].kind, g->vertices[root].estimate);
-  const Eigen::MatrixXd R_root = T_root.topLeftCorner(d, d);
-
-  // Rotations: unknown x_i = (row k of R_i)ᵀ ∈ Rᵈ for k = 0..d−1 (d right-hand
-  // sides, one matrix). Residual of edge i→j: x_j − Zᵀ x_i.
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n * d, d);
+  const Mat R_root = T_root.topLeftCorner<D, D>();
+  std::vector<PoseEdge> edges;
+  edges.reserve(g->edges.size());
   std::vector<double> kappa(g->edges.size(), 0.0), tau(g->edges.size(), 0.0);
-  auto add_block = [&](int r, int c, const Eigen::MatrixXd& B) {
-    for (int a = 0; a < d; ++a)
-      for (int b = 0; b < d; ++b)
-        if (B(a, b) != 0.0) trip.emplace_back(r * d + a, c * d + b, B(a, b));
-  };
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(d, d);
   for (size_t k = 0; k < g->edges.size(); ++k) {
     const io::Edge& e = g->edges[k];
     if (!IsPosePose(e.kind)) continue;
-    const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
-    const Eigen::MatrixXd Z = EdgeMatrix(e).topLeftCorner(d, d);
+    edges.push_back({static_cast<int>(k), g->VertexIndex(e.from), g->VertexIndex(e.to)});
     const ChordalPrecisions precisions = ChordalPrecisionsOfInformation(e.information);
     kappa[k] = precisions.kappa;
     tau[k] = precisions.tau;
-    const double kap = kappa[k];
-    // ‖x_j − Zᵀx_i‖²: H_ii += κ ZZᵀ = κI, H_jj += κI, H_ij = −κZ, H_ji = −κZᵀ.
-    if (unk[i] >= 0) add_block(unk[i], unk[i], kap * I);
-    if (unk[j] >= 0) add_block(unk[j], unk[j], kap * I);
-    if (unk[i] >= 0 && unk[j] >= 0) {
-      add_block(unk[i], unk[j], -kap * Z);
-      add_block(unk[j], unk[i], -kap * Z.transpose());
-    } else if (unk[j] >= 0) {  // i is the root: x_i known (column k = row k of R_root)
-      rhs.block(unk[j] * d, 0, d, d) += kap * Z.transpose() * R_root.transpose();
-    } else if (unk[i] >= 0) {  // j is the root
-      rhs.block(unk[i] * d, 0, d, d) += kap * Z * R_root.transpose();
-    }
-  }
-  Eigen::SparseMatrix<double> H(n * d, n * d);
-  H.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(H);
-  BOXPLUS_CHECK(ldlt.info() == Eigen::Success, SingularSystem(*g, "rotation", kappa));
-  const Eigen::MatrixXd X = ldlt.solve(rhs);
-  BOXPLUS_CHECK(X.allFinite(), SingularSystem(*g, "rotation", kappa));
-  std::vector<Eigen::MatrixXd> R(g->vertices.size());
-  R[root] = R_root;
-  for (size_t i = 0; i < g->vertices.size(); ++i) {
-    if (unk[i] < 0) continue;
-    const Eigen::MatrixXd M = X.block(unk[i] * d, 0, d, d).transpose();  // rows of R_i
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::MatrixXd D = Eigen::MatrixXd::Identity(d, d);
-    D(d - 1, d - 1) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-    R[i] = svd.matrixU() * D * svd.matrixV().transpose();
   }
 
-  // Translations: ‖t_j − t_i − R_i t_ij‖² τ; the Laplacian, d right-hand sides.
-  trip.clear();
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, d);
-  const Eigen::RowVectorXd t_root = T_root.topRightCorner(d, 1).transpose();
-  for (size_t k = 0; k < g->edges.size(); ++k) {
-    const io::Edge& e = g->edges[k];
-    if (!IsPosePose(e.kind)) continue;
-    const int i = g->VertexIndex(e.from), j = g->VertexIndex(e.to);
-    const Eigen::RowVectorXd c = (R[i] * e.measurement.head(d)).transpose();  // t_j − t_i ≈ c
-    const double w = tau[k];
-    if (unk[i] >= 0) {
-      trip.emplace_back(unk[i], unk[i], w);
-      b.row(unk[i]) -= w * c;
-    } else {
-      b.row(unk[j]) += w * t_root;
-    }
-    if (unk[j] >= 0) {
-      trip.emplace_back(unk[j], unk[j], w);
-      b.row(unk[j]) += w * c;
-    } else {
-      b.row(unk[i]) += w * t_root;
-    }
-    if (unk[i] >= 0 && unk[j] >= 0) {
-      trip.emplace_back(unk[i], unk[j], -w);
-      trip.emplace_back(unk[j], unk[i], -w);
+  // Translations' Laplacian ‖t_j − t_i − R_i t_ij‖² τ: its values need no
+  // rotation, so its ordering comes first.
+  std::vector<Eigen::Triplet<double>> trip;
+  trip.reserve(4 * edges.size());
+  for (const PoseEdge& pe : edges) {
+    const int ui = unk[pe.i], uj = unk[pe.j];
+    const double w = tau[pe.k];
+    if (ui >= 0) trip.emplace_back(ui, ui, w);
+    if (uj >= 0) trip.emplace_back(uj, uj, w);
+    if (ui >= 0 && uj >= 0) {
+      trip.emplace_back(ui, uj, -w);
+      trip.emplace_back(uj, ui, -w);
     }
   }
   Eigen::SparseMatrix<double> L(n, n);
   L.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> lldlt(L);
-  BOXPLUS_CHECK(lldlt.info() == Eigen::Success, SingularSystem(*g, "translation", tau));
-  const Eigen::MatrixXd t = lldlt.solve(b);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> translations;
+  translations.analyzePattern(L);
+  // Position of unknown u in the ordering: P.indices()[u] (P A Pᵀ = L D Lᵀ).
+  const Eigen::VectorXi order = translations.permutationP().indices();
+
+  std::vector<Mat> R(g->vertices.size(), Mat::Identity());
+  R[root] = R_root;
+  if constexpr (D == 2) {
+    ChordalRotations2D(*g, edges, kappa, unk, order, R_root, &R);
+  } else {
+    // Rotations: unknown x_u = (row r of R_u)ᵀ ∈ Rᴰ for r = 0..D−1 (D right-hand
+    // sides, one matrix), stored at block order[u]. Residual of edge i→j:
+    // x_j − Zᵀ x_i, so H_ii += κ ZZᵀ = κI, H_jj += κI, H_ij = −κZ, H_ji = −κZᵀ.
+    trip.clear();
+    trip.reserve(edges.size() * 2 * (D + D * D));
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n * D, D);
+    auto add_block = [&](int r, int c, const Mat& B) {
+      for (int a = 0; a < D; ++a)
+        for (int b = 0; b < D; ++b)
+          if (B(a, b) != 0.0) trip.emplace_back(r * D + a, c * D + b, B(a, b));
+    };
+    for (const PoseEdge& pe : edges) {
+      const io::Edge& e = g->edges[pe.k];
+      const Mat Z = EdgeMatrix(e).topLeftCorner<D, D>();
+      const double kap = kappa[pe.k];
+      const int bi = unk[pe.i] >= 0 ? order[unk[pe.i]] : -1;
+      const int bj = unk[pe.j] >= 0 ? order[unk[pe.j]] : -1;
+      if (bi >= 0) add_block(bi, bi, kap * Mat::Identity());
+      if (bj >= 0) add_block(bj, bj, kap * Mat::Identity());
+      if (bi >= 0 && bj >= 0) {
+        add_block(bi, bj, -kap * Z);
+        add_block(bj, bi, -kap * Z.transpose());
+      } else if (bj >= 0) {  // i is the root: x_i known (column r = row r of R_root)
+        rhs.block<D, D>(bj * D, 0) += kap * Z.transpose() * R_root.transpose();
+      } else if (bi >= 0) {  // j is the root
+        rhs.block<D, D>(bi * D, 0) += kap * Z * R_root.transpose();
+      }
+    }
+    Eigen::SparseMatrix<double> H(n * D, n * D);
+    H.setFromTriplets(trip.begin(), trip.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+        rotations(H);
+    BOXPLUS_CHECK(rotations.info() == Eigen::Success, SingularSystem(*g, "rotation", kappa));
+    const Eigen::MatrixXd X = rotations.solve(rhs);
+    BOXPLUS_CHECK(X.allFinite(), SingularSystem(*g, "rotation", kappa));
+    for (size_t i = 0; i < g->vertices.size(); ++i) {
+      if (unk[i] >= 0) R[i] = NearestRotation(Mat(X.block<D, D>(order[unk[i]] * D, 0).transpose()));
+    }
+  }
+
+  translations.factorize(L);
+  BOXPLUS_CHECK(translations.info() == Eigen::Success, SingularSystem(*g, "translation", tau));
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, D);
+  const Eigen::Matrix<double, 1, D> t_root = T_root.topRightCorner<D, 1>().transpose();
+  for (const PoseEdge& pe : edges) {
+    const io::Edge& e = g->edges[pe.k];
+    const Eigen::Matrix<double, 1, D> c =
+        (R[pe.i] * e.measurement.head<D>()).transpose();  // t_j − t_i ≈ c
+    const double w = tau[pe.k];
+    const int ui = unk[pe.i], uj = unk[pe.j];
+    if (ui >= 0) {
+      b.row(ui) -= w * c;
+    } else {
+      b.row(uj) += w * t_root;
+    }
+    if (uj >= 0) {
+      b.row(uj) += w * c;
+    } else {
+      b.row(ui) += w * t_root;
+    }
+  }
+  const Eigen::MatrixXd t = translations.solve(b);
   BOXPLUS_CHECK(t.allFinite(), SingularSystem(*g, "translation", tau));
   std::vector<char> done(g->vertices.size(), 0);
   for (size_t i = 0; i < g->vertices.size(); ++i) {
@@ -372,13 +462,25 @@ void InitializeChordal(Graph* g, int root_id) {
       continue;
     }
     Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
-    T.topLeftCorner(d, d) = R[i];
-    T.topRightCorner(d, 1) = t.row(unk[i]).transpose();
+    T.topLeftCorner<D, D>() = R[i];
+    T.topRightCorner<D, 1>() = t.row(unk[i]).transpose();
     g->vertices[i].estimate = FromMatrix(g->vertices[i].kind, T);
     g->vertices[i].has_estimate = true;
     done[i] = 1;
   }
   PlaceLandmarks(g, done);
+}
+
+}  // namespace
+
+void InitializeChordal(Graph* g, int root_id) {
+  const int root = RootIndex(*g, root_id);
+  CheckConnected(*g, root);
+  if (g->dimension == 3) {
+    ChordalStart<3>(g, root);
+  } else {
+    ChordalStart<2>(g, root);
+  }
 }
 
 }  // namespace boxplus::slam
