@@ -1,4 +1,5 @@
 #include "bindings.h"
+#include "native_log.h"
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "boxplus._core: C++ core of boxplus (manifolds, problem, solver).";
@@ -20,4 +21,6 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterPoseFactors(m);
   boxplus::python::RegisterSlam(m);
   boxplus::python::RegisterCertify(m);
+  // Last: Ceres logs only inside solves, which cannot start before the module is loaded.
+  boxplus::python::RegisterNativeLog(m);
 }

@@ -49,6 +49,25 @@ py::object ExactValue(const Eigen::VectorXd& a, const std::string& kind) {
   std::copy(a.data(), a.data() + a.size(), x);
   return py::cast(t);
 }
+
+// The repr: "<boxplus.Problem: N variables (k fixed, d free tangent
+// dimensions), M measurements (r residuals)>".
+std::string DescribeProblem(const Problem& p) {
+  int fixed = 0, free_dims = 0, residuals = 0;
+  for (int id = 0; id < p.num_variables(); ++id) {
+    if (p.IsFixed(id)) {
+      ++fixed;
+    } else {
+      free_dims += p.manifold(id).TangentSize();
+    }
+  }
+  for (int id = 0; id < p.num_measurements(); ++id) residuals += p.residual_size(id);
+  return "<boxplus.Problem: " + std::to_string(p.num_variables()) + " variables (" +
+         std::to_string(fixed) + " fixed, " + std::to_string(free_dims) +
+         " free tangent dimensions), " + std::to_string(p.num_measurements()) + " measurements (" +
+         std::to_string(residuals) + " residuals)>";
+}
+
 }  // namespace
 
 void RegisterProblem(py::module_& m) {
@@ -68,6 +87,7 @@ The C++ least-squares problem: variables on manifolds and whitened residuals.
 The public, friendlier front is boxplus.OptimizationProblem.
 )doc")
       .def(py::init<>())
+      .def("__repr__", &DescribeProblem)
       .def(
           "add_variable",
           [](Problem& p, const ManifoldHandle& m, const Eigen::VectorXd& init,

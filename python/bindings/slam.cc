@@ -12,7 +12,6 @@
 #include "boxplus/problem.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/slam/pose_graph.h"
-#include "native_log.h"
 #include "solve_from_python.h"
 
 namespace py = pybind11;
@@ -72,37 +71,9 @@ Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
   return out;
 }
 
-// "<name: N variables (k fixed, d free tangent dimensions), M measurements (r residuals)>"
-std::string DescribeProblem(const Problem& p, const std::string& name) {
-  int fixed = 0, free_dims = 0, residuals = 0;
-  for (int id = 0; id < p.num_variables(); ++id) {
-    if (p.IsFixed(id)) {
-      ++fixed;
-    } else {
-      free_dims += p.manifold(id).TangentSize();
-    }
-  }
-  for (int id = 0; id < p.num_measurements(); ++id) residuals += p.residual_size(id);
-  return "<" + name + ": " + std::to_string(p.num_variables()) + " variables (" +
-         std::to_string(fixed) + " fixed, " + std::to_string(free_dims) +
-         " free tangent dimensions), " + std::to_string(p.num_measurements()) + " measurements (" +
-         std::to_string(residuals) + " residuals)>";
-}
-
 }  // namespace
 
 void RegisterSlam(py::module_& m) {
-  // Registered with the last group of bindings (module.cc is shared): Ceres
-  // logs only inside solves, which cannot start before the module is loaded.
-  RegisterNativeLog(m);
-  // The repr of boxplus.Problem, bound in problem.cc: set here because this
-  // file is registered after it (module.cc) and shares the description with
-  // the pose graph's.
-  py::object problem_type = py::type::of<Problem>();
-  problem_type.attr("__repr__") =
-      py::cpp_function([](const Problem& p) { return DescribeProblem(p, "boxplus.Problem"); },
-                       py::name("__repr__"), py::is_method(problem_type));
-
   m.def(
       "pose_graph_solver_defaults",
       [] {
