@@ -22,7 +22,9 @@ each run's time to reach it within 1e-6 (relative) comes from its
 per-iteration trace, including the time of an initialisation it ran (the
 chordal relaxation, InitializePose3) and of building the solver's state
 (boxplus' symbolic analysis, g2o's initialize_optimization, GTSAM's optimizer
-construction), excluding reading the file. A run that fails is a miss.
+construction), excluding reading the file. A run that fails is a miss. A
+run shorter than 0.1 s is repeated (five runs in all) and the fastest kept,
+for every system alike.
 The ratio is boxplus' time over the fastest peer's that reaches the target.
 The summary gives the median and worst ratio and, per system, the graphs where
 it misses the target; a PNG shows the distribution of the ratios.
@@ -57,6 +59,8 @@ SHARED_FILES = ["tinyGrid3D", "smallGrid3D", "parking-garage", "sphere2500", "to
 ITERATIONS = 100
 TOL = 1e-10
 REACH = 1e-6
+SHORT_S = 0.1  # runs faster than this are repeated, the fastest kept
+REPEATS = 5
 
 # (label, load_g2o keywords, solve keywords); the first of each convention is
 # the default: what `boxplus-g2o FILE` runs (the same C++ defaults).
@@ -153,6 +157,21 @@ def _warm_up():
                 run_peer(p, path, data)
 
 
+def best_of(run, *args):
+    """Runs ``run(*args)`` once, and up to REPEATS times in all when it took less
+    than SHORT_S: the fastest of the runs (the solvers are deterministic, so
+    the runs differ only in time). A millisecond run timed once is at the
+    mercy of the machine: the same g2o run took 0.4 and 0.8 ms in two suites."""
+    best = run(*args)
+    for _ in range(REPEATS - 1):
+        if "error" in best or best["time_s"] >= SHORT_S:
+            break
+        again = run(*args)
+        if "error" not in again and again["time_s"] < best["time_s"]:
+            best = again
+    return best
+
+
 def time_to(run, target):
     if "error" in run:
         return None
@@ -215,14 +234,14 @@ def main(argv=None):
             data = g2o_ref.read_g2o_arrays(path)
             runs = {"g2o": {}, "log": {}}
             for label, load, solve in BOXPLUS_G2O:
-                runs["g2o"][label] = run_boxplus(path, load, solve)
+                runs["g2o"][label] = best_of(run_boxplus, path, load, solve)
             for label, load, solve in BOXPLUS_LOG:
-                runs["log"][label] = run_boxplus(path, load, solve)
+                runs["log"][label] = best_of(run_boxplus, path, load, solve)
             for p in PEERS_G2O:
-                runs["g2o"][p] = run_peer(p, path, data)
+                runs["g2o"][p] = best_of(run_peer, p, path, data)
             for p in PEERS_LOG:
                 if "own-init" not in p or data["dim"] == 3:
-                    runs["log"][p] = run_peer(p, path, data)
+                    runs["log"][p] = best_of(run_peer, p, path, data)
             print(f"\n== {name}: {len(data['ids'])} poses, {len(data['z'])} edges, {data['dim']}D")
             for conv, rs in runs.items():
                 best = min(r["chi2"] for r in rs.values() if "chi2" in r)
