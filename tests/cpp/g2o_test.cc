@@ -397,5 +397,46 @@ TEST(G2oRead, NumbersAreReadAsStrtodReadsThem) {
   }
 }
 
+// A text of several of the reader's blocks (it converts numbers a block ahead
+// on another thread): lines, values and the first bad line are as if read
+// line by line, wherever a block boundary falls.
+TEST(G2oRead, BigTextsReadAsLineByLine) {
+  const int n = 30000;  // about 2 MB, two blocks and more
+  std::string text;
+  for (int i = 0; i < n; ++i) {
+    text += "VERTEX_SE2 " + std::to_string(i) + " " + std::to_string(i) + ".25 -1.5 0\n";
+    if (i % 977 == 0) text += "# a comment\n\n";
+  }
+  for (int i = 0; i + 1 < n; ++i) {
+    text += "EDGE_SE2 " + std::to_string(i) + " " + std::to_string(i + 1) + " 1 0 0.125 " +
+            std::to_string(i + 1) + " 0 0 2 0 3\n";
+  }
+  ReadReport report;
+  const Graph g = ParseG2o(text, "big.g2o", {}, &report);
+  ASSERT_EQ(g.vertices.size(), static_cast<size_t>(n));
+  ASSERT_EQ(g.edges.size(), static_cast<size_t>(n - 1));
+  const int comment_lines = 2 * ((n - 1) / 977 + 1);
+  EXPECT_EQ(report.lines, n + comment_lines + n - 1);
+  for (int i : {0, 977, 17000, n - 1}) {
+    EXPECT_EQ(g.vertices[i].id, i);
+    EXPECT_EQ(g.vertices[i].estimate[0], i + 0.25);
+    EXPECT_EQ(g.vertices[i].estimate[1], -1.5);
+  }
+  for (int k : {0, 12345, n - 2}) {
+    EXPECT_EQ(g.edges[k].from, k);
+    EXPECT_EQ(g.edges[k].information(0, 0), k + 1.0);
+    EXPECT_EQ(g.edges[k].measurement[2], 0.125);
+    EXPECT_EQ(g.edges[k].line, n + comment_lines + k + 1);
+  }
+  // Two bad lines far apart: the first in file order is reported.
+  std::string bad = text;
+  const std::string second = "EDGE_SE2 27000 27001 ";
+  const std::string first = "EDGE_SE2 20000 20001 ";
+  bad.replace(bad.find(second) + second.size(), 1, "x");
+  bad.replace(bad.find(first) + first.size(), 1, "q");
+  EXPECT_THAT(ParseErrorOf(bad), HasSubstr("test.g2o:" + std::to_string(n + comment_lines + 20001) +
+                                           ": field 4 ('q') is not a finite number"));
+}
+
 }  // namespace
 }  // namespace boxplus::io

@@ -175,7 +175,7 @@ struct Graph {
   void CheckEdge(const Edge& e) const;
   // Appends a vertex / edge (in memory; written at the end of the file), after
   // CheckVertex / CheckEdge: a failed call leaves the graph unchanged.
-  int AddVertex(const Vertex& v);
+  int AddVertex(Vertex v);
   int AddEdge(const Edge& e);
 };
 
