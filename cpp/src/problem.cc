@@ -241,9 +241,9 @@ void Problem::Reserve(int variables, int measurements) {
   meas_.reserve(std::max(0, measurements));
 }
 
-int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
-                            const std::vector<int>& var_ids, NoiseModel noise,
-                            std::shared_ptr<ceres::LossFunction> loss, const std::string& name) {
+int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, std::vector<int> var_ids,
+                            NoiseModel noise, std::shared_ptr<ceres::LossFunction> loss,
+                            const std::string& name) {
   const Busy busy(*this, "AddMeasurement");
   const int id = num_measurements();
   const What what{"measurement", id, name};
@@ -289,7 +289,7 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost,
   Measurement m;
   m.cost = std::move(cost);
   m.loss = std::move(loss);
-  m.vars = var_ids;
+  m.vars = std::move(var_ids);
   m.noise = std::move(noise);
   m.name = name;
   meas_.push_back(std::move(m));

@@ -1,9 +1,11 @@
 // Tests of the SLAM factors (analytic Jacobians against autodiff, the log
 // convention against the SE(3) exponential), the pose graph and the
 // initialisations.
+#include <algorithm>
 #include <random>
 
 #include <ceres/cost_function.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -295,6 +297,79 @@ TEST(PoseGraph, EdgeNamesAreDerived) {
   pg.AddEdge(extra);
   EXPECT_EQ(p.measurement_name(n + 2), p.measurement_name(0));
   EXPECT_EQ(p.measurement_name(n + 1), "z" + std::to_string(n + 1));
+}
+
+// A chain of n SE(2) poses with an edge between neighbours and a loop
+// closure every 7th pose, its edges numbered as lines of "chain.g2o".
+io::Graph Chain2D(int n) {
+  io::Graph g;
+  g.name = "chain.g2o";
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 0.05);
+  int line = 0;
+  for (int i = 0; i < n; ++i) {
+    io::Vertex v;
+    v.id = i;
+    v.kind = io::VertexKind::kSE2;
+    v.estimate = Eigen::Vector3d(i + noise(rng), noise(rng), noise(rng));
+    v.line = ++line;
+    g.AddVertex(v);
+  }
+  auto edge = [&](int a, int b) {
+    io::Edge e;
+    e.kind = io::EdgeKind::kSE2;
+    e.from = a;
+    e.to = b;
+    e.measurement = Eigen::Vector3d(b - a + noise(rng), noise(rng), noise(rng));
+    e.information = Eigen::Vector3d(100 + a % 5, 50, 400).asDiagonal();
+    e.information(0, 1) = e.information(1, 0) = 3;
+    e.line = ++line;
+    g.AddEdge(e);
+  };
+  for (int i = 0; i + 1 < n; ++i) {
+    edge(i, i + 1);
+    if (i >= 7 && i % 7 == 0) edge(i - 7, i);
+  }
+  return g;
+}
+
+// A graph's edges are prepared a block ahead on another thread while the ones
+// before are added: the problem is the one the edges added one by one make,
+// and the first refused edge in file order is the one reported.
+TEST(PoseGraph, EdgesBuiltInBlocksMatchEdgesAddedOneByOne) {
+  const io::Graph g = Chain2D(40000);  // about 46000 edges: three blocks
+  ASSERT_GT(g.edges.size(), 2u * (1u << 14));
+  slam::PoseGraph built(g);
+  io::Graph vertices_only = g;
+  vertices_only.edges.clear();
+  vertices_only.order.erase(
+      std::remove_if(vertices_only.order.begin(), vertices_only.order.end(),
+                     [](const auto& r) { return r.type == io::Graph::RecordType::kEdge; }),
+      vertices_only.order.end());
+  slam::PoseGraph one_by_one(vertices_only);
+  for (const io::Edge& e : g.edges) one_by_one.AddEdge(e);
+  Problem& p = built.problem();
+  Problem& q = one_by_one.problem();
+  ASSERT_EQ(p.num_measurements(), q.num_measurements());
+  for (int k = 0; k < p.num_measurements(); ++k) {
+    ASSERT_EQ(p.measurement_variables(k), q.measurement_variables(k)) << k;
+    ASSERT_EQ(p.measurement_name(k), q.measurement_name(k)) << k;
+    ASSERT_EQ(p.Residual(k), q.Residual(k)) << k;
+  }
+  EXPECT_NEAR(2 * p.Cost(), built.Chi2(), 1e-9 * built.Chi2());
+
+  io::Graph bad = g;
+  bad.edges[40000].information(2, 2) = -1;  // third block
+  bad.edges[20000].information(1, 1) = 0;   // second block: reported
+  try {
+    slam::PoseGraph refused(bad);
+    FAIL() << "a graph with non-positive-definite information was built";
+  } catch (const ParseError& e) {
+    const io::Edge& first = bad.edges[20000];
+    EXPECT_THAT(std::string(e.what()),
+                ::testing::HasSubstr("chain.g2o:" + std::to_string(first.line) + ": edge " +
+                                     std::to_string(first.from) + "-" + std::to_string(first.to)));
+  }
 }
 
 TEST(PoseGraph, RobustKernelsByName) {

@@ -98,7 +98,7 @@ class Problem {
   // NoiseModel means the residual is the error). `loss` may be null (plain
   // least squares). A measurement must depend on at least one variable, each
   // listed once, and its Jacobians must fit Ceres' int-indexed storage.
-  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
+  int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, std::vector<int> var_ids,
                      NoiseModel noise, std::shared_ptr<ceres::LossFunction> loss = nullptr,
                      const std::string& name = "");
   int AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, const std::vector<int>& var_ids,
