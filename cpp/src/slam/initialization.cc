@@ -16,6 +16,7 @@
 #include "boxplus/factors/pose/chordal_relative_pose.h"
 #include "boxplus/manifolds/se2.h"
 #include "boxplus/manifolds/se3.h"
+#include "nearest_rotation.h"
 
 namespace boxplus::slam {
 namespace {
@@ -271,16 +272,6 @@ void InitializeSpanningTree(Graph* g, int root_id) {
 }
 
 namespace {
-
-// The rotation nearest to M in the Frobenius norm (argmax tr(RᵀM) over
-// SO(3)): the projection of the relaxation's solution, by the SVD with the
-// sign of the last singular vector fixed.
-Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& M) {
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-  return svd.matrixU() * D * svd.matrixV().transpose();
-}
 
 struct PoseEdge {
   int k, i, j;  // edge index, vertex indices of its ends

@@ -11,6 +11,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "boxplus/errors.h"
+#include "nearest_rotation.h"
 #include "newton_polish.h"
 #include "stiefel_manifold.h"
 
@@ -172,11 +173,7 @@ Eigen::MatrixXd RoundSolution(const SESyncGraph& g, const SpMat& M, const Eigen:
   for (int i = 0; i < n; ++i) positive += R.middleCols(d * i, d).determinant() > 0;
   if (2 * positive < n) R.row(d - 1) *= -1.0;
   for (int i = 0; i < n; ++i) {
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(R.middleCols(d * i, d),
-                                          Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::MatrixXd S = Eigen::MatrixXd::Identity(d, d);
-    S(d - 1, d - 1) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-    R.middleCols(d * i, d) = svd.matrixU() * S * svd.matrixV().transpose();
+    R.middleCols(d * i, d) = NearestRotation(R.middleCols(d * i, d));
   }
   // Translations optimal for R: minimise tr(X M Xᵀ) over t with the anchor's
   // held at zero, i.e. L t = −M_tR Rᵀ on the other rows.
