@@ -29,9 +29,12 @@ The ratio is boxplus' time over the fastest peer's that reaches the target.
 The summary gives the median and worst ratio and, per system, the graphs where
 it misses the target; a PNG shows the distribution of the ratios.
 
+The rows are rewritten to the JSON after each graph; Ctrl-C summarises the
+graphs done, and ``--summarise JSON`` summarises and plots an earlier run's.
+
 usage: python bench/bench_pose_graph_suite.py [--cache DIR] [--only SUBSTR ...]
         [--max-poses N] [--no-shared] [--budget-minutes M] [--alternatives-max-poses N]
-        [--png PATH] [--json PATH]
+        [--png PATH] [--json PATH] [--summarise JSON]
 """
 
 from __future__ import annotations
@@ -214,16 +217,33 @@ def main(argv=None):
                     "only on graphs of at most this many poses; the default and the peers run "
                     "on every graph")
     ap.add_argument("--png", default=str(HERE.parent / "build" / "bench-suite.png"))
-    ap.add_argument("--json", default=str(HERE.parent / "build" / "bench-suite.json"))
+    ap.add_argument("--json", default=str(HERE.parent / "build" / "bench-suite.json"),
+                    help="the rows, rewritten after each graph (an interrupted run keeps them)")
+    ap.add_argument("--summarise", metavar="JSON",
+                    help="run nothing: summarise and plot the rows of an earlier run's JSON")
     args = ap.parse_args(argv)
-    import boxplus.slam as slam
-
+    if args.summarise:
+        rows = json.loads(Path(args.summarise).read_text())
+        args.json = args.summarise
+        print(f"rows of {args.summarise}: {len({r['graph'] for r in rows})} graphs")
+        summarise(rows, args)
+        return
     _warm_up()
     rows = []
     print(f"pose-graph suite: one thread, ≤ {ITERATIONS} iterations, target = best objective of "
           f"any run within {REACH:g} (relative); times include initialisation, not reading")
     t_start = time.perf_counter()
     todo = graphs(args)
+    try:
+        run_graphs(todo, rows, args, t_start)
+    except KeyboardInterrupt:  # Ctrl-C: the graphs done so far are summarised
+        print(f"\ninterrupted: {len(rows) // 2} of {len(todo)} graphs run (smallest first)")
+    summarise(rows, args)
+
+
+def run_graphs(todo, rows, args, t_start):
+    import boxplus.slam as slam
+
     with tempfile.TemporaryDirectory() as tmp:
         for name, src in todo:
             if args.budget_minutes and time.perf_counter() - t_start > 60 * args.budget_minutes:
@@ -276,7 +296,7 @@ def main(argv=None):
                 rows.append({"graph": name, "conv": conv, "best": best, "ratio": ratio,
                              "fastest": fastest[1] if fastest else None,
                              "reach": reach, "chi2": {k: r.get("chi2") for k, r in rs.items()}})
-    summarise(rows, args)
+            Path(args.json).write_text(json.dumps(rows, indent=1))
 
 
 def summarise(rows, args):
