@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <limits>
-#include <thread>
 
 #include "boxplus/errors.h"
 #include "boxplus/factors/pose/bearing_range.h"
@@ -220,7 +218,7 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
                        "vertex " + std::to_string(v.id) + ": " + err.what());
     }
   }
-  AddEdgesToProblem();
+  for (const io::Edge& e : graph_.edges) AddEdgeToProblem(e);
   const std::vector<int> fixed = graph_.FixedIds();
   for (int id : fixed) Fix(id);
   // A full pose prior (EDGE_PRIOR_SE2, EDGE_SE3_PRIOR) fixes the gauge by
@@ -243,17 +241,9 @@ PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
   }
 }
 
-PoseGraph::PreparedEdge PoseGraph::PrepareEdge(const io::Edge& e) const noexcept {
-  PreparedEdge p;
-  try {
-    const int a = var_of_vertex_[graph_.EndIndex(e, 0)];
-    const int b = var_of_vertex_[graph_.EndIndex(e, 1)];
-    p.vars = io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b};
-  } catch (...) {
-    p.error = std::current_exception();
-    p.error_in_lookup = true;
-    return p;
-  }
+void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
+  const int a = var_of_vertex_[graph_.EndIndex(e, 0)];
+  const int b = var_of_vertex_[graph_.EndIndex(e, 1)];
   try {
     // One model per edge: the factor whitens with it and the problem keeps it
     // to un-whiten the edge's error. SE-Sync's chordal residual is whitened
@@ -269,23 +259,14 @@ PoseGraph::PreparedEdge PoseGraph::PrepareEdge(const io::Edge& e) const noexcept
     }();
     const bool chordal = options_.convention == PoseErrorConvention::kSESync &&
                          (e.kind == io::EdgeKind::kSE2 || e.kind == io::EdgeKind::kSE3);
-    // The cost is made before the noise is moved (into the chordal model or
-    // the measurement) below: it reads the noise.
-    p.cost = MakeEdgeCost(e, noise, options_.convention);
-    p.noise = chordal ? ChordalNoise(noise) : std::move(noise);
-  } catch (...) {
-    p.error = std::current_exception();
-  }
-  return p;
-}
-
-void PoseGraph::AddPreparedEdge(const io::Edge& e, PreparedEdge p) {
-  if (p.error && p.error_in_lookup) std::rethrow_exception(p.error);
-  try {
-    if (p.error) std::rethrow_exception(p.error);
     // The edges added in file order are named by the namer (no string each).
     const bool derived_name = problem_.num_measurements() == named_edges_;
-    problem_.AddMeasurement(std::move(p.cost), std::move(p.vars), std::move(p.noise), loss_,
+    // The cost is made here, before the noise is moved into the call below
+    // (the order in which a call's arguments are evaluated is unspecified).
+    auto cost = MakeEdgeCost(e, noise, options_.convention);
+    problem_.AddMeasurement(std::move(cost),
+                            io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b},
+                            chordal ? ChordalNoise(noise) : std::move(noise), loss_,
                             derived_name ? std::string() : EdgeName(e));
     if (derived_name) ++named_edges_;
   } catch (const ParseError&) {
@@ -294,32 +275,6 @@ void PoseGraph::AddPreparedEdge(const io::Edge& e, PreparedEdge p) {
     // A factory's complaint about the measurement names the file's line.
     if (graph_.name.empty() || e.line <= 0) throw;
     throw ParseError(io::Escaped(graph_.name), e.line, EdgeName(e) + ": " + err.what());
-  }
-}
-
-// The graph's edges in order, each block of them prepared on another thread
-// (when there is one) while the block before is added to the problem.
-void PoseGraph::AddEdgesToProblem() {
-  const size_t n = graph_.edges.size();
-  constexpr size_t kBlock = size_t{1} << 14;
-  const size_t blocks = (n + kBlock - 1) / kBlock;
-  const auto policy = blocks > 1 && std::thread::hardware_concurrency() > 1 ? std::launch::async
-                                                                            : std::launch::deferred;
-  const auto prepare = [this, n](size_t block) {
-    std::vector<PreparedEdge> out;
-    const size_t first = block * kBlock, last = std::min(n, first + kBlock);
-    out.reserve(last - first);
-    for (size_t i = first; i < last; ++i) out.push_back(PrepareEdge(graph_.edges[i]));
-    return out;
-  };
-  std::future<std::vector<PreparedEdge>> ahead;
-  if (blocks > 0) ahead = std::async(policy, prepare, size_t{0});
-  for (size_t block = 0; block < blocks; ++block) {
-    std::vector<PreparedEdge> ready = ahead.get();
-    if (block + 1 < blocks) ahead = std::async(policy, prepare, block + 1);
-    for (size_t k = 0; k < ready.size(); ++k) {
-      AddPreparedEdge(graph_.edges[block * kBlock + k], std::move(ready[k]));
-    }
   }
 }
 

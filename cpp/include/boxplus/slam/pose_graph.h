@@ -30,7 +30,6 @@
 // solving. Save() writes the file back with the solution, ids and order kept.
 #pragma once
 
-#include <exception>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -137,21 +136,7 @@ class PoseGraph {
   void Save(const std::string& path);
 
  private:
-  // An edge's measurement made ready to add: its variables, noise model and
-  // cost, or the error making them raised. Preparing reads the graph and the
-  // variables only, so the edges of a big graph are prepared on another
-  // thread while the ones before are added (half of the build's time).
-  struct PreparedEdge {
-    std::vector<int> vars;
-    NoiseModel noise;
-    std::shared_ptr<ceres::CostFunction> cost;
-    std::exception_ptr error;
-    bool error_in_lookup = false;  // an unknown vertex: raised as it is
-  };
-  PreparedEdge PrepareEdge(const io::Edge& edge) const noexcept;
-  void AddPreparedEdge(const io::Edge& edge, PreparedEdge prepared);
-  void AddEdgeToProblem(const io::Edge& edge) { AddPreparedEdge(edge, PrepareEdge(edge)); }
-  void AddEdgesToProblem();
+  void AddEdgeToProblem(const io::Edge& edge);
   io::Graph graph_;
   PoseGraphOptions options_;
   Problem problem_;
