@@ -522,9 +522,10 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
   const std::vector<const char*> cuts = BlockCuts(begin, end);
   const size_t num_blocks = cuts.size() - 1;
   // One block converted ahead on another thread, when there is one (a
-  // deferred launch converts it on this thread at get()).
+  // deferred launch converts it on this thread at get(); with both flags a
+  // thread that cannot be started falls back to that).
   const auto policy = num_blocks > 1 && std::thread::hardware_concurrency() > 1
-                          ? std::launch::async
+                          ? std::launch::async | std::launch::deferred
                           : std::launch::deferred;
   const auto convert = [&](size_t k) {
     return std::async(policy, ConvertBlock, cuts[k], cuts[k + 1]);
