@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -27,9 +28,9 @@ void CheckSymmetric(const Eigen::MatrixXd& m, const std::string& what, const cha
 }
 
 // Lower Cholesky factor of an SPD matrix, or a named error. Matrix is
-// MatrixXd, or a type with at most 6 × 6 on the stack for the pose-graph
-// sizes (one model per edge of a big graph; a heap matrix per step was most
-// of the model's cost).
+// MatrixXd, or a fixed size on the stack for the pose-graph sizes (one model
+// per edge of a big graph; a heap matrix per step was most of the model's
+// cost). m must be square and, for a fixed Matrix, of its size.
 template <class Matrix = Eigen::MatrixXd>
 Matrix CholeskyLower(const Eigen::MatrixXd& m, const std::string& what, const char* kind) {
   CheckSquareFinite(m, what, kind);
@@ -47,9 +48,27 @@ Matrix LowerInverse(const Matrix& L) {
   return L.template triangularView<Eigen::Lower>().solve(Matrix::Identity(L.rows(), L.rows()));
 }
 
-using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+// L⁻¹ of a fixed-size lower-triangular L by forward substitution, unrolled
+// by the compiler. Eigen's solve against a matrix right-hand side takes its
+// blocked general kernel (packing and a workspace) even at 3 × 3, which was
+// most of a pose graph's model build (one model per edge).
+template <int N, std::enable_if_t<(N > 0), int> = 0>
+Eigen::Matrix<double, N, N> LowerInverse(const Eigen::Matrix<double, N, N>& L) {
+  Eigen::Matrix<double, N, N> X = Eigen::Matrix<double, N, N>::Zero();
+  for (int j = 0; j < N; ++j) {
+    X(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < N; ++i) {
+      double s = 0.0;
+      for (int k = j; k < i; ++k) s -= L(i, k) * X(k, j);
+      X(i, j) = s / L(i, i);
+    }
+  }
+  return X;
+}
 
-// UᵀU = LLᵀ = Ω; U⁻¹ is formed only to refuse an Ω whose un-whitening would overflow.
+// UᵀU = LLᵀ = Ω; U⁻¹ is formed only to refuse an Ω whose un-whitening would
+// overflow. Matrix is a fixed N × N for the sizes of pose graphs' edges
+// (2, 3, 6), else MatrixXd.
 template <class Matrix>
 Eigen::MatrixXd UpperFactorOfInformation(const Eigen::MatrixXd& information,
                                          const std::string& what) {
@@ -104,10 +123,22 @@ NoiseModel NoiseModel::Covariance(const Eigen::MatrixXd& covariance, const std::
 }
 
 NoiseModel NoiseModel::Information(const Eigen::MatrixXd& information, const std::string& what) {
-  const bool small = information.rows() <= 6 && information.cols() <= 6;
-  return NoiseModel(Form::kInformation,
-                    small ? UpperFactorOfInformation<Small>(information, what)
-                          : UpperFactorOfInformation<Eigen::MatrixXd>(information, what));
+  const auto factor = [&]() -> Eigen::MatrixXd {
+    if (information.rows() == information.cols()) {
+      switch (information.rows()) {
+        case 2:
+          return UpperFactorOfInformation<Eigen::Matrix2d>(information, what);
+        case 3:
+          return UpperFactorOfInformation<Eigen::Matrix3d>(information, what);
+        case 6:
+          return UpperFactorOfInformation<Eigen::Matrix<double, 6, 6>>(information, what);
+        default:
+          break;
+      }
+    }
+    return UpperFactorOfInformation<Eigen::MatrixXd>(information, what);
+  };
+  return NoiseModel(Form::kInformation, factor());
 }
 
 NoiseModel NoiseModel::SqrtInformation(const Eigen::MatrixXd& sqrt_information,

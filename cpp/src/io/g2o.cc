@@ -14,7 +14,9 @@
 #include <fstream>
 #include <future>
 #include <limits>
+#include <memory>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include <Eigen/Cholesky>
@@ -173,18 +175,29 @@ std::string ReadReport::Warnings(const std::string& path) const {
   return out.str();
 }
 
+namespace {
+
+template <class Matrix>
+bool CholeskySucceeds(const Eigen::MatrixXd& info) {
+  const Eigen::LLT<Matrix> llt{Matrix(info)};
+  return llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0;
+}
+
+}  // namespace
+
 bool IsPositiveDefinite(const Eigen::MatrixXd& info) {
   if (!info.allFinite() || info.rows() != info.cols()) return false;
-  // Up to 6 × 6 (every g2o edge) on the stack: one check per edge of a big file.
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-  if (info.rows() <= 6) {
-    Eigen::LLT<Small> llt(info);
-    return llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0;
+  // The sizes of g2o's edges on the stack, unrolled: one check per edge of a big file.
+  switch (info.rows()) {
+    case 2:
+      return CholeskySucceeds<Eigen::Matrix2d>(info);
+    case 3:
+      return CholeskySucceeds<Eigen::Matrix3d>(info);
+    case 6:
+      return CholeskySucceeds<Eigen::Matrix<double, 6, 6>>(info);
+    default:
+      return info.rows() > 0 && CholeskySucceeds<Eigen::MatrixXd>(info);
   }
-  Eigen::LLT<Eigen::MatrixXd> llt(info);
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::VectorXd d = llt.matrixLLT().diagonal();
-  return d.minCoeff() > 0.0;
 }
 
 bool CanRepair(const Eigen::MatrixXd& info) {
@@ -488,8 +501,10 @@ constexpr double kEquivInformation = 1e6;
 
 }  // namespace
 
-Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptions& options,
-               ReadReport* report) {
+namespace {
+
+Graph ParseText(std::string_view text, const std::string& name, const ReadOptions& options,
+                ReadReport* report) {
   ReadReport local;
   ReadReport& rep = report ? *report : local;
   rep = ReadReport();
@@ -908,6 +923,13 @@ Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptio
   return g;
 }
 
+}  // namespace
+
+Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptions& options,
+               ReadReport* report) {
+  return ParseText(text, name, options, report);
+}
+
 Graph ReadG2o(const std::string& path, const ReadOptions& options, ReadReport* report) {
   std::error_code ec;
   BOXPLUS_CHECK(!std::filesystem::is_directory(path, ec), Escaped(path),
@@ -916,21 +938,28 @@ Graph ReadG2o(const std::string& path, const ReadOptions& options, ReadReport* r
   BOXPLUS_CHECK(in.good(), Escaped(path), ": cannot open the file");
   // One read into a buffer of the file's size (an istreambuf_iterator copies
   // byte by byte: a tenth of the reading time of a 140 MB file; a read through
-  // a chunk copies the file twice); a file whose size is unknown (a pipe) or
-  // that grows while read is read in chunks.
-  std::string text;
+  // a chunk copies the file twice). The buffer is not zero-filled first (a
+  // std::string's resize is: a pass over a 300 MB file for nothing). A file
+  // whose size is unknown (a pipe) or that grows while read is read in chunks.
+  std::unique_ptr<char[]> buffer;
+  size_t got = 0;
   const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && std::filesystem::is_regular_file(path, ec)) {
-    text.resize(size);
-    in.read(text.data(), static_cast<std::streamsize>(size));
-    text.resize(static_cast<size_t>(in.gcount()));
+  if (!ec && std::filesystem::is_regular_file(path, ec) && size > 0) {
+    buffer.reset(new char[size]);
+    in.read(buffer.get(), static_cast<std::streamsize>(size));
+    got = static_cast<size_t>(in.gcount());
+    BOXPLUS_CHECK(!in.bad(), Escaped(path), ": reading failed");
+    if (!in.good() || in.peek() == std::char_traits<char>::eof()) {
+      return ParseText(std::string_view(buffer.get(), got), path, options, report);
+    }
   }
-  if (in.good()) {
-    char chunk[1 << 16];
-    while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) text.append(chunk, in.gcount());
-  }
+  std::string text;
+  if (got > 0) text.assign(buffer.get(), got);
+  buffer.reset();
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) text.append(chunk, in.gcount());
   BOXPLUS_CHECK(!in.bad(), Escaped(path), ": reading failed");
-  return ParseG2o(text, path, options, report);
+  return ParseText(text, path, options, report);
 }
 
 }  // namespace boxplus::io
