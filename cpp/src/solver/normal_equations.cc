@@ -163,6 +163,21 @@ void NormalEquations::Layout() {
       }
     }
   }
+  shape_.assign(terms_.size(), kGeneral);
+  for (size_t t = 0; t < terms_.size(); ++t) {
+    const LsqTerm& term = terms_[t];
+    const std::vector<int>& fs = term_free_[t];
+    if (term.blocks.size() != 2 || fs.size() != 2) continue;
+    if (blocks_[term.blocks[0]].euclidean || blocks_[term.blocks[1]].euclidean) continue;
+    const int nr = term.cost->num_residuals();
+    const auto& sizes = term.cost->parameter_block_sizes();
+    const auto is = [&](int r, int a, int tan) {
+      return nr == r && sizes[0] == a && sizes[1] == a && tangent_[fs[0]] == tan &&
+             tangent_[fs[1]] == tan;
+    };
+    if (is(3, 3, 3)) shape_[t] = kPair3;
+    if (is(6, 7, 6)) shape_[t] = kPair6;
+  }
   g_.setZero(n_);
   plus_jacobian_.resize(nf);
 }
@@ -256,6 +271,14 @@ bool NormalEquations::AddTerms(size_t begin, size_t end, Scratch* s, double* val
   const int* outer = H_.outerIndexPtr();
   double total = 0.0;
   for (size_t t = begin; t < end; ++t) {
+    if (shape_[t] == kPair6) {
+      if (!AddPairTerm<6, 7, 6>(t, values, g, &total)) return false;
+      continue;
+    }
+    if (shape_[t] == kPair3) {
+      if (!AddPairTerm<3, 3, 3>(t, values, g, &total)) return false;
+      continue;
+    }
     const LsqTerm& term = terms_[t];
     const int nr = term.cost->num_residuals();
     const auto& sizes = term.cost->parameter_block_sizes();
@@ -303,6 +326,42 @@ bool NormalEquations::AddTerms(size_t begin, size_t end, Scratch* s, double* val
     }
   }
   *cost = total;
+  return true;
+}
+
+template <int NR, int A, int T>
+bool NormalEquations::AddPairTerm(size_t t, double* values, Eigen::VectorXd* g,
+                                  double* cost) const {
+  // Ceres' Jacobians are row-major, one row per residual.
+  using AmbientJacobian = Eigen::Matrix<double, NR, A, Eigen::RowMajor>;
+  using PlusJacobian = Eigen::Matrix<double, A, T, Eigen::RowMajor>;
+  const LsqTerm& term = terms_[t];
+  Eigen::Matrix<double, NR, 1> r;
+  AmbientJacobian ambient[2];
+  double* jac_ptrs[2] = {ambient[0].data(), ambient[1].data()};
+  if (!term.cost->Evaluate(params_[t].data(), r.data(), jac_ptrs)) return false;
+  double w = 1.0;
+  *cost += HalfRho(term, r.squaredNorm(), &w);
+  const std::vector<int>& fs = term_free_[t];
+  Eigen::Matrix<double, NR, T> J[2];
+  for (int k = 0; k < 2; ++k) {
+    J[k].noalias() = ambient[k] * Eigen::Map<const PlusJacobian>(plus_jacobian_[fs[k]].data());
+    g->template segment<T>(col_[fs[k]]).noalias() += w * J[k].transpose() * r;
+  }
+  // The pairs in the order of pair_pos_ (Layout): (a, b) with fs[a] ≤ fs[b].
+  const int* outer = H_.outerIndexPtr();
+  int p = 0;
+  for (int a = 0; a < 2; ++a) {
+    for (int b = 0; b < 2; ++b) {
+      if (fs[a] > fs[b]) continue;
+      const Eigen::Matrix<double, T, T> block = w * J[a].transpose() * J[b];
+      const int pos = pair_pos_[t][p++];
+      for (int c = 0; c < T; ++c) {
+        double* col = values + outer[col_[fs[b]] + c] + pos;
+        for (int i = 0; i < T; ++i) col[i] += block(i, c);
+      }
+    }
+  }
   return true;
 }
 

@@ -73,6 +73,13 @@ class NormalEquations {
   // Adds the terms [begin, end) into `values` (H's value array) and `g`.
   bool AddTerms(size_t begin, size_t end, Scratch* s, double* values, Eigen::VectorXd* g,
                 double* cost) const;
+  // AddTerms for one term of NR residuals on two free, non-Euclidean blocks of
+  // ambient size A and tangent size T (every relative-pose edge: SE(2) 3/3/3,
+  // SE(3) 6/7/6) on the stack, the products unrolled: with the general
+  // path's dynamic matrices the block products were most of a small graph's
+  // iteration.
+  template <int NR, int A, int T>
+  bool AddPairTerm(size_t t, double* values, Eigen::VectorXd* g, double* cost) const;
 
   const std::vector<LsqBlock>& blocks_;
   const std::vector<LsqTerm>& terms_;
@@ -87,6 +94,9 @@ class NormalEquations {
   // For each term and each pair (a, b) of its free blocks with a ≤ b: the
   // offset of block row a within block column b's columns of H.
   std::vector<std::vector<int>> pair_pos_;
+  // Each term's fixed-size path: 0 the general one, else kPair3 or kPair6.
+  enum PairShape : unsigned char { kGeneral, kPair3, kPair6 };
+  std::vector<PairShape> shape_;
 
   Eigen::SparseMatrix<double> H_;
   Eigen::VectorXd g_;
