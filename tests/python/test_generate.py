@@ -194,7 +194,7 @@ def test_bad_parameters_raise_clear_errors():
 
 def test_benchmark_suite_spans_families_sizes_noise_and_outliers():
     suite = benchmark_suite(seed=1)
-    assert len(suite) == 60
+    assert len(suite) == 65
     assert len({s.name for s in suite}) == len(suite)
     assert {(s.family, s.dimension) for s in suite} == set(CASES)
     assert {s.noise for s in suite} == set(NOISE_LEVELS)
@@ -209,6 +209,10 @@ def test_benchmark_suite_spans_families_sizes_noise_and_outliers():
     million = benchmark_suite(seed=1, include_million=True)
     assert million[: len(suite)] == suite
     assert {s.num_poses for s in million[len(suite):]} == {1_000_000}
+    # Every family has wrong loop closures in 3D at 10³ poses too (appended last).
+    assert {s.family for s in suite[60:]} == set(FAMILIES)
+    assert all(s.dimension == 3 and s.num_poses == 1000 and s.outlier_fraction > 0
+               for s in suite[60:])
     small = next(s for s in suite if s.num_poses == 100 and s.outlier_fraction == 0)
     g = small.generate()
     assert (g.family, g.dimension, g.num_poses, g.seed) == (small.family, small.dimension,
