@@ -16,6 +16,9 @@ graphs where a peer's hundred iterations take an hour.
 
 from __future__ import annotations
 
+import os
+import select
+import signal
 import threading
 import time
 from pathlib import Path
@@ -131,6 +134,51 @@ def run_gtsam(path, data, init, method="lm", max_iterations=100, tol=1e-10, max_
             "objective": 2 * graph.error(res), "setup_s": setup_s, "capped": capped}
 
 
+class _StopWatch:
+    """Sets g2o's force-stop flag after ``seconds`` (None: never) or at Ctrl-C."""
+
+    def __init__(self, opt, seconds):
+        self.opt, self.seconds, self.capped = opt, seconds, False
+        self.done = threading.Event()
+        self.wake = None
+
+    def __enter__(self):
+        try:  # only the main thread may set the wake-up fd
+            r, w = os.pipe()
+            os.set_blocking(w, False)
+            self.previous = signal.set_wakeup_fd(w, warn_on_full_buffer=False)
+            self.wake = (r, w)
+        except ValueError:
+            os.close(r)
+            os.close(w)
+        self.start = time.perf_counter()
+        self.thread = threading.Thread(target=self._watch, daemon=True)
+        self.thread.start()
+        return self
+
+    def _watch(self):
+        while not self.done.is_set():
+            if self.wake and select.select([self.wake[0]], [], [], 0.1)[0]:
+                self.opt.set_force_stop_flag(True)  # Ctrl-C: Python raises once optimize() returns
+                return
+            if not self.wake:
+                self.done.wait(0.1)
+            if self.seconds is not None and time.perf_counter() - self.start > self.seconds:
+                self.capped = True
+                self.opt.set_force_stop_flag(True)
+                return
+
+    def __exit__(self, *exc):
+        self.done.set()
+        self.thread.join()
+        if self.wake:
+            signal.set_wakeup_fd(self.previous)
+            os.close(self.wake[0])
+            os.close(self.wake[1])
+        self.opt.set_force_stop_flag(False)
+        return False
+
+
 def run_g2o(path, data, init, method="gn", max_iterations=100, max_seconds=None):
     """g2o (g2opy): its own reader, Eigen sparse Cholesky, GN or LM."""
     import g2opy as g2o
@@ -160,24 +208,14 @@ def run_g2o(path, data, init, method="gn", max_iterations=100, max_seconds=None)
     setup_s = time.perf_counter() - t_setup
     opt.set_compute_batch_statistics(True)
     # g2o checks its force-stop flag before each iteration, and optimize()
-    # releases the GIL, so a sleeping timer thread can stop it at the cap.
-    done = threading.Event()
-    stopped = []
-
-    def stop_at_cap():
-        if not done.wait(max_seconds - setup_s):
-            stopped.append(True)
-            opt.set_force_stop_flag(True)
-
-    timer = threading.Thread(target=stop_at_cap, daemon=True) if max_seconds else None
-    t0 = time.perf_counter()
-    if timer:
-        timer.start()
-    iterations = opt.optimize(max_iterations)
-    elapsed = time.perf_counter() - t0
-    done.set()
-    if timer:
-        timer.join()
+    # releases the GIL, so a watching thread can stop it: at the cap, and at
+    # Ctrl-C, which Python would otherwise act on only when optimize() returns
+    # (the C-level handler writes to the wake-up pipe at once).
+    with _StopWatch(opt, None if max_seconds is None else max_seconds - setup_s) as watch:
+        t0 = time.perf_counter()
+        iterations = opt.optimize(max_iterations)
+        elapsed = time.perf_counter() - t0
+    stopped = watch.capped
     opt.set_force_stop_flag(False)
     trace = []
     try:
