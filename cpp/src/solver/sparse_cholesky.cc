@@ -47,7 +47,21 @@ double FillMeasure(const std::vector<int>& column_counts) {
 void SparseCholesky::Analyse(const Matrix& H) {
   supernodal_ = FillMeasure(CholeskyColumnCounts(H)) > kSupernodalSwitch;
   if (supernodal_) {
+    // The orderings CHOLMOD tries, keeping the one of least fill (nnz(L)).
+    cholmod_common& c = factors_->cholmod.cholmod();
+    c.nmethods = 3;
+    c.method[0].ordering = CHOLMOD_NATURAL;  // the block AMD order H arrives in
+    c.method[1].ordering = CHOLMOD_AMD;
+    c.method[2].ordering = CHOLMOD_METIS;
+    c.postorder = 1;
     factors_->cholmod.analyzePattern(H);
+    const int selected = c.selected;
+    ordering_ =
+        selected >= 0 && selected < c.nmethods && c.method[selected].ordering == CHOLMOD_METIS
+            ? "METIS"
+        : selected >= 0 && selected < c.nmethods && c.method[selected].ordering == CHOLMOD_AMD
+            ? "AMD"
+            : "block AMD";
   } else {
     factors_->simplicial.analyzePattern(H);
   }
