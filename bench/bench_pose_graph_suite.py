@@ -41,7 +41,7 @@ the target: the summary's capped count says how many runs could have.)
 The rows are rewritten to the JSON after each graph; Ctrl-C summarises the
 graphs done, and ``--summarise JSON`` summarises and plots an earlier run's.
 
-usage: python bench/bench_pose_graph_suite.py [--cache DIR] [--only SUBSTR ...]
+usage: python bench/bench_pose_graph_suite.py [--cache DIR] [--only SUBSTR ...] [--exclude SUBSTR ...]
         [--max-poses N] [--no-shared] [--budget-minutes M] [--alternatives-max-poses N]
         [--cap-factor F]
         [--png PATH] [--json PATH] [--summarise JSON]
@@ -213,13 +213,16 @@ def graphs(args):
         out += [(n, SHARED / f"{n}.g2o") for n in SHARED_FILES if (SHARED / f"{n}.g2o").exists()]
     if args.only:
         out = [(n, p) for n, p in out if any(s in n for s in args.only)]
+    if args.exclude:
+        out = [(n, p) for n, p in out if not any(s in n for s in args.exclude)]
     return sorted(out, key=lambda np_: os.path.getsize(np_[1]))  # small graphs first
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cache", default=str(HERE.parent / "build" / "bench-suite"))
-    ap.add_argument("--only", nargs="*")
+    ap.add_argument("--only", nargs="*", help="run the graphs whose names contain one of these")
+    ap.add_argument("--exclude", nargs="*", help="skip the graphs whose names contain one of these")
     ap.add_argument("--max-poses", type=int, default=100_000)
     ap.add_argument("--no-shared", action="store_true")
     ap.add_argument("--budget-minutes", type=float, default=0.0,
