@@ -106,7 +106,8 @@ options:
       --stats FILE       write the per-iteration lines to FILE
   -q, --quiet            no per-iteration lines, no progress while loading
   -v, --verbose          per-iteration lines (the default; for g2o's -v)
-      --report           print Ceres' full report at the end
+      --report           print the solver's full report at the end (Ceres', or
+                         gn-ls' own, naming its Cholesky and ordering)
       --list-solvers, --list-robust-kernels, --list-types
                          print the names accepted and exit
   -h, --help             this help

@@ -101,14 +101,16 @@ def test_gil_is_released_during_a_cpp_solve():
     # The problem is held (busy) only inside the C++ solve, where the GIL is
     # released: Python on this thread can observe the busy state only if it runs
     # while the other thread is inside C++.
-    o = _cpp_problem(0, n=60)
+    # 400 poses: a solve of ~25 ms, a window that a loaded machine's scheduler
+    # does not skip (with 60, ~7 ms, one full run of the suite missed it 20 times).
+    o = _cpp_problem(0, n=400)
     e = _while_solving(o, o.cost)
     assert e is not None, "no Python ran on this thread during the other thread's solve"
     assert "Cost" in str(e)
 
 
 def test_second_solve_of_the_same_problem_is_refused():
-    o = _cpp_problem(1, n=60)
+    o = _cpp_problem(1, n=400)
     e = _while_solving(o, o.solve)
     assert e is not None
     assert str(e).startswith("Solve: problem is already being solved in another thread")
