@@ -11,8 +11,12 @@ loaded the file: after the imports for the in-process runs, above the RSS of
 `boxplus-g2o --version` for the command-line one), and the ratio of boxplus'
 time to the fastest peer's.
 
-boxplus runs with its default solver (auto: dogleg for 2D, LM for 3D) and with
-its line-search Gauss–Newton (gn-ls); the summary gives both ratios.
+boxplus runs with its default solver (``auto``, an alias of ``gn-lm``:
+Gauss–Newton with a line search, then Levenberg–Marquardt) and with its
+line-search Gauss–Newton (gn-ls); the summary gives both ratios.
+``boxplus-g2o`` starts where it starts by default (the better of the file's
+estimate and the chordal relaxation, its time included); the in-process
+runs from the file's estimate, as the peers.
 
 Conventions: "g2o" is g2o's EdgeSE2/EdgeSE3 error, "log" GTSAM's (SE(d) Logmap);
 boxplus runs once in each. g2o runs are scored against the g2o convention,

@@ -100,6 +100,30 @@ TEST(SparseCholesky, SupernodalFactorKeepsTheOrderingOfLeastFill) {
   ASSERT_TRUE(cholesky.Solve(upper, b, &x));
   const Matrix full = upper.selfadjointView<Eigen::Upper>();
   EXPECT_LT((full * x - b).norm(), 1e-10 * b.norm());
+
+  // Asked to keep the order it came in, it does; several right-hand sides at once.
+  SparseCholesky as_given(SparseCholesky::Orderings::kAsGiven);
+  as_given.Analyse(upper);
+  ASSERT_TRUE(as_given.supernodal());
+  EXPECT_NE(as_given.name().find("block AMD"), std::string::npos) << as_given.name();
+  Eigen::MatrixXd B(n, 3), X;
+  B << b, b.reverse(), Eigen::VectorXd::Ones(n);
+  ASSERT_TRUE(as_given.SolveUnshifted(upper, B, &X));
+  EXPECT_LT((full * X - B).norm(), 1e-10 * B.norm());
+  EXPECT_LT((X.col(0) - x).norm(), 1e-10 * x.norm());
+}
+
+// Without the shift a singular matrix is refused, simplicial or supernodal.
+TEST(SparseCholesky, UnshiftedSolveRefusesASingularMatrix) {
+  for (int n : {2, 400}) {
+    // All ones: rank one, and dense (supernodal) at 400.
+    const Eigen::MatrixXd ones = Eigen::MatrixXd::Ones(n, n);
+    SparseCholesky cholesky;
+    cholesky.Analyse(UpperOf(ones));
+    EXPECT_EQ(cholesky.supernodal(), n == 400);
+    Eigen::MatrixXd X;
+    EXPECT_FALSE(cholesky.SolveUnshifted(UpperOf(ones), Eigen::MatrixXd::Ones(n, 2), &X)) << n;
+  }
 }
 
 // [[1, 1], [1, 1]] is singular; with b in its range the shifted solve

@@ -12,7 +12,8 @@ struct SparseCholesky::Factors {
   Eigen::CholmodSupernodalLLT<Matrix, Eigen::Upper> cholmod;
 };
 
-SparseCholesky::SparseCholesky() : factors_(std::make_unique<Factors>()) {}
+SparseCholesky::SparseCholesky(Orderings orderings)
+    : factors_(std::make_unique<Factors>()), orderings_(orderings) {}
 SparseCholesky::~SparseCholesky() = default;
 
 std::vector<int> CholeskyColumnCounts(const Eigen::SparseMatrix<double>& upper) {
@@ -49,7 +50,7 @@ void SparseCholesky::Analyse(const Matrix& H) {
   if (supernodal_) {
     // The orderings CHOLMOD tries, keeping the one of least fill (nnz(L)).
     cholmod_common& c = factors_->cholmod.cholmod();
-    c.nmethods = 3;
+    c.nmethods = orderings_ == Orderings::kLeastFill ? 3 : 1;
     c.method[0].ordering = CHOLMOD_NATURAL;  // the block AMD order H arrives in
     c.method[1].ordering = CHOLMOD_AMD;
     c.method[2].ordering = CHOLMOD_METIS;
@@ -79,8 +80,17 @@ bool SparseCholesky::Factorise(const Matrix& H, double shift) {
 }
 
 bool SparseCholesky::Solve(const Matrix& H, const Eigen::VectorXd& b, Eigen::VectorXd* x) {
+  return SolveDense(H, b, x, 8);
+}
+
+bool SparseCholesky::SolveUnshifted(const Matrix& H, const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
+  return SolveDense(H, B, X, 1);
+}
+
+template <class Dense>
+bool SparseCholesky::SolveDense(const Matrix& H, const Dense& b, Dense* x, int attempts) {
   double shift = 0.0;
-  for (int attempt = 0; attempt < 8; ++attempt) {
+  for (int attempt = 0; attempt < attempts; ++attempt) {
     if (Factorise(H, shift)) {
       if (supernodal_) {
         *x = factors_->cholmod.solve(b);

@@ -45,7 +45,10 @@ class SparseCholesky {
   using Matrix = Eigen::SparseMatrix<double>;
   static constexpr double kSupernodalSwitch = 150.0;
 
-  SparseCholesky();
+  // Which orderings the supernodal factor tries: the least fill of three
+  // (above), or only the order H arrives in (for a caller that ordered it).
+  enum class Orderings { kLeastFill, kAsGiven };
+  explicit SparseCholesky(Orderings orderings = Orderings::kLeastFill);
   ~SparseCholesky();
 
   // Chooses the method from the pattern of H (upper triangle) and analyses
@@ -56,6 +59,9 @@ class SparseCholesky {
   // max(1, max |Hᵢᵢ|) · 100ᵏ, k < 8, that factorises to a finite x; false
   // when none does.
   bool Solve(const Matrix& H, const Eigen::VectorXd& b, Eigen::VectorXd* x);
+  // X = H⁻¹ B for the columns of B at once (one factorisation), without a
+  // shift: false when H does not factorise or X is not finite.
+  bool SolveUnshifted(const Matrix& H, const Eigen::MatrixXd& B, Eigen::MatrixXd* X);
 
   bool supernodal() const { return supernodal_; }
   std::string name() const {
@@ -66,8 +72,11 @@ class SparseCholesky {
  private:
   struct Factors;  // Eigen's and CHOLMOD's, kept out of this header
   bool Factorise(const Matrix& H, double shift);
+  template <class Dense>
+  bool SolveDense(const Matrix& H, const Dense& b, Dense* x, int attempts);
 
   std::unique_ptr<Factors> factors_;
+  Orderings orderings_;
   bool supernodal_ = false;
   std::string ordering_;  // the supernodal factor's, from CHOLMOD's choice
 };
