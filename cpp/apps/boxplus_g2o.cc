@@ -51,8 +51,8 @@ options:
   -i, --iterations N     maximum number of iterations (default 100)
   -s, --solver NAME      gn-lm (default; alias auto): Gauss-Newton with a
                          backtracking line search while its full steps hold,
-                         then Levenberg-Marquardt (chosen on a generated suite
-                         of 60 graphs, README "Pose graphs"); lm
+                         then Levenberg-Marquardt (chosen and measured on a
+                         generated suite of graphs, README "Graph SLAM"); lm
                          (Levenberg-Marquardt), gn (Gauss-Newton: undamped,
                          the trust region only rejects steps), gn-ls
                          (Gauss-Newton with a backtracking line search),
