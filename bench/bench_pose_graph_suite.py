@@ -30,7 +30,8 @@ The summary gives the median and worst ratio and, per system, the graphs where
 it misses the target; a PNG shows the distribution of the ratios.
 
 A peer's run stops at a wall-time cap, the larger of CAP_FLOOR_S and
-CAP_FACTOR times boxplus' default on that graph: without it, g2o's hundred
+CAP_FACTOR times the slowest boxplus run on that graph (the default's, where
+its alternatives do not run): without it, g2o's hundred
 Gauss–Newton iterations on a 3D graph of 10⁴ poses with wrong loop closures
 took over half an hour. A capped run that has not reached the target by then
 is a miss, and the summary counts the capped runs per system; were it to reach
@@ -233,7 +234,7 @@ def main(argv=None):
                     "only on graphs of at most this many poses; the default and the peers run "
                     "on every graph")
     ap.add_argument("--cap-factor", type=float, default=CAP_FACTOR,
-                    help="stop a peer's run after this many times boxplus' default's time on "
+                    help="stop a peer's run after this many times the slowest boxplus run on "
                     f"the graph, or {CAP_FLOOR_S:g} s if that is longer")
     ap.add_argument("--png", default=str(HERE.parent / "build" / "bench-suite.png"))
     ap.add_argument("--json", default=str(HERE.parent / "build" / "bench-suite.json"),
