@@ -1,6 +1,5 @@
 #include "boxplus/slam/initialization.h"
 
-#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <queue>
@@ -390,13 +389,14 @@ void ChordalStart(Graph* g, int root) {
   const Eigen::VectorXi& order = to_order.indices();
   // The Laplacian in that order, upper triangle, for the line search's
   // Cholesky (simplicial, or supernodal where the factor fills in).
-  Eigen::SparseMatrix<double> L_ordered(n, n);
-  for (Eigen::Triplet<double>& t : trip) {
+  std::vector<Eigen::Triplet<double>> upper;
+  upper.reserve(trip.size());
+  for (const Eigen::Triplet<double>& t : trip) {
     const int r = order[t.row()], c = order[t.col()];
-    t = Eigen::Triplet<double>(std::min(r, c), std::max(r, c), r <= c ? t.value() : 0.0);
+    if (r <= c) upper.emplace_back(r, c, t.value());
   }
-  L_ordered.setFromTriplets(trip.begin(), trip.end());
-  L_ordered.prune(0.0);
+  Eigen::SparseMatrix<double> L_ordered(n, n);
+  L_ordered.setFromTriplets(upper.begin(), upper.end());
 
   std::vector<Mat> R(g->vertices.size(), Mat::Identity());
   R[root] = R_root;

@@ -56,16 +56,21 @@ void SparseCholesky::Analyse(const Matrix& H) {
     c.method[2].ordering = CHOLMOD_METIS;
     c.postorder = 1;
     factors_->cholmod.analyzePattern(H);
-    const int selected = c.selected;
-    ordering_ =
-        selected >= 0 && selected < c.nmethods && c.method[selected].ordering == CHOLMOD_METIS
-            ? "METIS"
-        : selected >= 0 && selected < c.nmethods && c.method[selected].ordering == CHOLMOD_AMD
-            ? "AMD"
-            : "block AMD";
   } else {
     factors_->simplicial.analyzePattern(H);
   }
+}
+
+std::string SparseCholesky::name() const {
+  if (!supernodal_) return "Eigen simplicial LDLT";
+  // The ordering CHOLMOD kept, read back from its common block.
+  const cholmod_common& c = factors_->cholmod.cholmod();
+  const bool chosen = c.selected >= 0 && c.selected < c.nmethods;
+  const int ordering = chosen ? c.method[c.selected].ordering : CHOLMOD_NATURAL;
+  const char* order = ordering == CHOLMOD_METIS ? "METIS"
+                      : ordering == CHOLMOD_AMD ? "AMD"
+                                                : "block AMD";
+  return std::string("CHOLMOD supernodal LLT, ") + order + " order";
 }
 
 bool SparseCholesky::Factorise(const Matrix& H, double shift) {

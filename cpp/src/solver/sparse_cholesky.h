@@ -64,10 +64,8 @@ class SparseCholesky {
   bool SolveUnshifted(const Matrix& H, const Eigen::MatrixXd& B, Eigen::MatrixXd* X);
 
   bool supernodal() const { return supernodal_; }
-  std::string name() const {
-    return supernodal_ ? "CHOLMOD supernodal LLT, " + ordering_ + " order"
-                       : "Eigen simplicial LDLT";
-  }
+  // The method, and for the supernodal one the ordering kept.
+  std::string name() const;
 
  private:
   struct Factors;  // Eigen's and CHOLMOD's, kept out of this header
@@ -78,7 +76,6 @@ class SparseCholesky {
   std::unique_ptr<Factors> factors_;
   Orderings orderings_;
   bool supernodal_ = false;
-  std::string ordering_;  // the supernodal factor's, from CHOLMOD's choice
 };
 
 }  // namespace boxplus::internal
