@@ -262,13 +262,20 @@ completely first: one that raises leaves the graph unchanged.
                                    [&pg](const SolverOptions& o) { return pg.Solve(o); });
           },
           py::arg("options") = py::none(), py::arg("callback") = py::none(),
-          "Solves in place (boxplus::slam::PoseGraph::Solve: from a second start too when "
-          "the solution is implausible, see chi2_per_dof); the arguments of Problem.solve.")
+          "Solves in place (boxplus::slam::PoseGraph::Solve: when restart_when_implausible is "
+          "on and the solution is implausible (see chi2_per_dof), also from the file's estimate "
+          "and from a Huber-kernel solution, keeping the lowest chi2); the arguments of "
+          "Problem.solve.")
       .def("chi2_per_dof", &PoseGraph::Chi2PerDof,
            "χ² / (residuals − free tangent dimensions) at the current values: ≈ 1 for a graph "
            "whose information matrices fit its errors; NaN without degrees of freedom.")
       .def_property_readonly("has_second_start", &PoseGraph::has_second_start,
                              "Whether the next solve may also start from the file's estimate.")
+      .def_property("restart_when_implausible", &PoseGraph::restart_when_implausible,
+                    &PoseGraph::set_restart_when_implausible,
+                    "Whether the next solve, if its solution is implausible (chi2_per_dof > "
+                    "IMPLAUSIBLE_CHI2_PER_DOF), also solves from other starts and keeps the "
+                    "lowest chi2: on after load_g2o(..., init='best').")
       .def(
           "chi2",
           [](const PoseGraph& pg, const std::string& convention) {

@@ -1329,7 +1329,7 @@ class PoseGraph:
         """
     def solve(self, options: typing.Any = None, callback: typing.Any = None, **kwargs) -> SolveSummary:
         """
-        Solves in place (boxplus::slam::PoseGraph::Solve: from a second start too when the solution is implausible, see chi2_per_dof); the arguments of Problem.solve.
+        Solves in place (boxplus::slam::PoseGraph::Solve: when restart_when_implausible is on and the solution is implausible (see chi2_per_dof), also from the file's estimate and from a Huber-kernel solution, keeping the lowest chi2); the arguments of Problem.solve.
         """
     def to_string(self) -> str:
         """
@@ -1370,6 +1370,14 @@ class PoseGraph:
         """
         The LoadReport of the file.
         """
+    @property
+    def restart_when_implausible(self) -> bool:
+        """
+        Whether the next solve, if its solution is implausible (chi2_per_dof > IMPLAUSIBLE_CHI2_PER_DOF), also solves from other starts and keeps the lowest chi2: on after load_g2o(..., init='best').
+        """
+    @restart_when_implausible.setter
+    def restart_when_implausible(self, arg1: bool) -> None:
+        ...
     @property
     def vertex_ids(self) -> list[int]:
         ...

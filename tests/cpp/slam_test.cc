@@ -370,6 +370,78 @@ TEST(PoseGraph, EdgesOfTheGraphMatchEdgesAddedOneByOne) {
   }
 }
 
+// Chain2D with wrong loop closures: each says a pose 20 poses back lies 6 m
+// aside, so χ²/dof ≫ 1 and the least-squares objective has several minima.
+io::Graph ChainWithWrongClosures(int n) {
+  io::Graph g = Chain2D(n);
+  int line = static_cast<int>(g.vertices.size() + g.edges.size());
+  for (int i = 25; i < n; i += 37) {
+    io::Edge e;
+    e.kind = io::EdgeKind::kSE2;
+    e.from = i - 20;
+    e.to = i;
+    e.measurement = Eigen::Vector3d(14, 6, 1.0);
+    e.information = Eigen::Vector3d(100, 100, 400).asDiagonal();
+    e.line = ++line;
+    g.AddEdge(e);
+  }
+  return g;
+}
+
+// An implausible solution is sought again from a Huber solution: the kept
+// estimate is the lowest of the solves, the gauge stays, and a callback sees
+// one run (iterations and time counting on) of the plain objective.
+TEST(PoseGraph, ImplausibleSolutionRestartsAndKeepsTheLowest) {
+  const io::Graph g = ChainWithWrongClosures(300);
+  SolverOptions o = slam::DefaultSolverOptions();
+
+  slam::PoseGraph once(g);
+  const SolveSummary single = once.Solve(o);
+  ASSERT_TRUE(single.usable);
+  EXPECT_GT(once.Chi2PerDof(), slam::kImplausibleChi2PerDof);
+  EXPECT_THAT(single.message, ::testing::Not(::testing::HasSubstr("kept the lowest")));
+
+  slam::PoseGraph pg(g);
+  pg.set_restart_when_implausible(true);
+  const Eigen::Vector3d gauge(pg.problem().value(pg.variable(0)));
+  std::vector<IterationInfo> seen;
+  o.on_iteration = [&](const IterationInfo& i) {
+    seen.push_back(i);
+    return true;
+  };
+  const SolveSummary s = pg.Solve(o);
+  ASSERT_TRUE(s.usable) << s.message;
+  EXPECT_THAT(s.message, ::testing::HasSubstr("from a Huber solution"));
+  EXPECT_FALSE(pg.restart_when_implausible());  // only the first solve restarts
+  EXPECT_LE(pg.Chi2(), once.Chi2() * (1 + 1e-9));
+  EXPECT_NEAR(2 * s.final_cost, pg.Chi2(), 1e-9 * pg.Chi2());
+  EXPECT_EQ(Eigen::Vector3d(pg.problem().value(pg.variable(0))), gauge);
+  ASSERT_GT(seen.size(), static_cast<size_t>(single.iterations + 2));
+  for (size_t k = 1; k < seen.size(); ++k) {
+    EXPECT_GT(seen[k].iteration, seen[k - 1].iteration) << k;
+    EXPECT_GE(seen[k].cumulative_time_s, seen[k - 1].cumulative_time_s) << k;
+  }
+  // The Huber solve's iterations report the plain χ² (their Huber cost is
+  // far lower: the wrong closures' terms grow linearly there).
+  const IterationInfo& huber_start = seen[single.iterations + 1];
+  EXPECT_NEAR(huber_start.cost, seen[0].cost, 1e-9 * seen[0].cost);
+
+  // Stopped in the second solve: the lowest estimate so far is kept.
+  slam::PoseGraph stopped(g);
+  stopped.set_restart_when_implausible(true);
+  o.on_iteration = [&](const IterationInfo& i) { return i.iteration < single.iterations + 4; };
+  const SolveSummary t = stopped.Solve(o);
+  EXPECT_EQ(t.termination, "interrupted");
+  EXPECT_TRUE(t.usable);
+  EXPECT_LE(stopped.Chi2(), once.Chi2() * (1 + 1e-9));
+
+  // A plausible graph is solved once.
+  slam::PoseGraph plain(Chain2D(300));
+  plain.set_restart_when_implausible(true);
+  o.on_iteration = nullptr;
+  EXPECT_THAT(plain.Solve(o).message, ::testing::Not(::testing::HasSubstr("kept the lowest")));
+}
+
 TEST(PoseGraph, RobustKernelsByName) {
   for (const char* k : {"huber", "cauchy", "tukey", "arctan", "softl1"}) {
     EXPECT_NE(MakeLoss(k, 1.0), nullptr);

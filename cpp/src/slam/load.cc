@@ -30,6 +30,7 @@ std::unique_ptr<PoseGraph> Load(const std::string& name, const LoadOptions& opti
   const auto t2 = Clock::now();
   auto pg = std::make_unique<PoseGraph>(std::move(graph), options.graph);
   pg->set_second_start(std::move(second_start));
+  pg->set_restart_when_implausible(options.init == InitMethod::kBest);
   const auto t3 = Clock::now();
   rep.read_s = std::chrono::duration<double>(t1 - t0).count();
   rep.init_s = std::chrono::duration<double>(t2 - t1).count();

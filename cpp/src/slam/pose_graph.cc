@@ -373,13 +373,6 @@ SolverOptions DefaultSolverOptions() {
   return o;
 }
 
-void PoseGraph::set_second_start(std::vector<Eigen::VectorXd> estimates) {
-  BOXPLUS_CHECK(estimates.empty() || estimates.size() == graph_.vertices.size(),
-                "set_second_start: ", estimates.size(), " estimates for ", graph_.vertices.size(),
-                " vertices");
-  second_start_ = std::move(estimates);
-}
-
 double PoseGraph::Chi2PerDof() const {
   long dof = 0;
   for (const io::Edge& e : graph_.edges) dof += io::ErrorSize(e.kind);
@@ -387,39 +380,6 @@ double PoseGraph::Chi2PerDof() const {
     if (!problem_.IsFixed(v)) dof -= problem_.manifold(v).TangentSize();
   }
   return dof > 0 ? Chi2() / static_cast<double>(dof) : std::numeric_limits<double>::quiet_NaN();
-}
-
-SolveSummary PoseGraph::Solve(const SolverOptions& options) {
-  SolveSummary first = problem_.Solve(options);
-  const std::vector<Eigen::VectorXd> other = std::move(second_start_);
-  second_start_.clear();
-  if (other.empty() || !first.usable || first.termination == "interrupted") return first;
-  const double per_dof = Chi2PerDof();
-  if (!(per_dof > kImplausibleChi2PerDof)) return first;
-  std::vector<Eigen::VectorXd> found(var_of_vertex_.size());
-  for (size_t i = 0; i < found.size(); ++i) {
-    const int v = var_of_vertex_[i];
-    found[i] =
-        Eigen::Map<const Eigen::VectorXd>(problem_.value(v), problem_.manifold(v).AmbientSize());
-    if (!problem_.IsFixed(v)) problem_.SetValue(v, other[i].data());
-  }
-  SolveSummary second = problem_.Solve(options);
-  const bool second_wins = second.usable && second.termination != "interrupted" &&
-                           std::isless(second.final_cost, first.final_cost);
-  if (!second_wins) {
-    for (size_t i = 0; i < found.size(); ++i) problem_.SetValue(var_of_vertex_[i], found[i].data());
-  }
-  char why[200];
-  std::snprintf(why, sizeof why,
-                "chi2/dof %.3g > %g from the chordal start, so also solved from the file's "
-                "estimate (%s)",
-                per_dof, kImplausibleChi2PerDof, second_wins ? "lower: kept" : "not lower");
-  SolveSummary out = second_wins ? second : first;
-  out.initial_cost = first.initial_cost;
-  out.iterations = first.iterations + second.iterations;
-  out.time_s = first.time_s + second.time_s;
-  out.message = std::string(why) + "; " + out.message;
-  return out;
 }
 
 double PoseGraph::Chi2(PoseErrorConvention convention) const {

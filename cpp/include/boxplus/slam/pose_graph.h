@@ -113,15 +113,21 @@ class PoseGraph {
   int AddVertex(const io::Vertex& vertex);
   int AddEdge(const io::Edge& edge);
 
-  // Solves from the current values. If a second start was set (the file's
-  // estimate, when InitMethod::kBest chose the chordal one) and the solution
+  // Solves from the current values. When restarts are on (LoadPoseGraph sets
+  // them for InitMethod::kBest, the default of boxplus-g2o) and the solution
   // is statistically implausible — χ²/dof > kImplausibleChi2PerDof, as with
-  // wrong loop closures, which pull the chordal relaxation's start towards
-  // them while odometry is not — the first Solve also solves from the second
-  // start and keeps the lower objective (summary.message says so).
+  // wrong loop closures and no robust kernel, where the objective has many
+  // minima and a local solver's end depends on its path — the first Solve
+  // also solves from the second start (the file's estimate, when kBest chose
+  // the chordal one) and from a Huber-kernel solution from the first start,
+  // and keeps the lowest objective (pose_graph_restarts.cc; summary.message
+  // lists each). Iterations and time count on across the solves, and the
+  // callback sees the plain objective throughout.
   SolveSummary Solve(const SolverOptions& options = {});
   void set_second_start(std::vector<Eigen::VectorXd> estimates);
   bool has_second_start() const { return !second_start_.empty(); }
+  void set_restart_when_implausible(bool on) { restart_when_implausible_ = on; }
+  bool restart_when_implausible() const { return restart_when_implausible_; }
   // χ² over its degrees of freedom (residuals − free tangent dimensions) at
   // the current values; NaN when there are no degrees of freedom.
   double Chi2PerDof() const;
@@ -148,6 +154,10 @@ class PoseGraph {
   int named_edges_ = 0;
   LoadReport load_report_;
   std::vector<Eigen::VectorXd> second_start_;  // vertex order; empty: none
+  bool restart_when_implausible_ = false;
+  // The variables' values in vertex order; SetValues leaves fixed ones as they are.
+  std::vector<Eigen::VectorXd> Values() const;
+  void SetValues(const std::vector<Eigen::VectorXd>& values);
 };
 
 // χ²/dof above which a pose-graph solution is implausible for its
