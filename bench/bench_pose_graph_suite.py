@@ -23,8 +23,8 @@ per-iteration trace, including the time of an initialisation it ran (the
 chordal relaxation, InitializePose3) and of building the solver's state
 (boxplus' symbolic analysis, g2o's initialize_optimization, GTSAM's optimizer
 construction), excluding reading the file. A run that fails is a miss. A
-run shorter than 0.1 s is repeated (five runs in all) and the fastest kept,
-for every system alike.
+run that came to its own final objective in less than 0.1 s is repeated (five
+runs in all) and the fastest to it kept, for every system alike.
 The ratio is boxplus' time over the fastest peer's that reaches the target.
 The summary gives the median and worst ratio and, per system, the graphs where
 it misses the target; a PNG shows the distribution of the ratios.
@@ -175,17 +175,27 @@ def _warm_up():
                 run_peer(p, path, data)
 
 
+def _time_to_own_result(run):
+    """When a run first came within REACH of its own final objective: what a
+    run is timed by once the target is known, for a run that went on
+    afterwards (boxplus' restarts on an implausible graph) as for one that
+    stopped there."""
+    final = run["chi2"] * (1 + REACH)
+    return next((t for t, v in run["trace"] if v <= final), run["time_s"])
+
+
 def best_of(run, *args):
-    """Runs ``run(*args)`` once, and up to REPEATS times in all when it took less
-    than SHORT_S: the fastest of the runs (the solvers are deterministic, so
-    the runs differ only in time). A millisecond run timed once is at the
-    mercy of the machine: the same g2o run took 0.4 and 0.8 ms in two suites."""
+    """Runs ``run(*args)`` once, and up to REPEATS times in all when it came to
+    its own result in less than SHORT_S: the fastest of the runs by that time
+    (the solvers are deterministic, so the runs differ only in time). A
+    millisecond run timed once is at the mercy of the machine: the same g2o
+    run took 0.4 and 0.8 ms in two suites."""
     best = run(*args)
     for _ in range(REPEATS - 1):
-        if "error" in best or best["time_s"] >= SHORT_S:
+        if "error" in best or _time_to_own_result(best) >= SHORT_S:
             break
         again = run(*args)
-        if "error" not in again and again["time_s"] < best["time_s"]:
+        if "error" not in again and _time_to_own_result(again) < _time_to_own_result(best):
             best = again
     return best
 

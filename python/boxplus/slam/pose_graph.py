@@ -128,7 +128,7 @@ class PoseGraph(_core.PoseGraph):
         with Progress(log=log, level=logging.DEBUG, bar=bool(progress), total=total,
                       callback=callback) as report:
             cb = report if (log is not None or report.has_bar) else callback
-            # The C++ PoseGraph.solve (from a second start too when the solution is
+            # The C++ PoseGraph.solve (from more starts when the solution is
             # implausible; boxplus::slam::PoseGraph::Solve).
             try:
                 summary = solver.run(super(), options, cb, verbose, **overrides)
