@@ -36,7 +36,7 @@ def run(
 
     ``problem`` is anything with the C++ ``solve(options, callback,
     **overrides)`` of :class:`boxplus._core.Problem` (also the C++ pose graph,
-    whose solve may restart from a second start).
+    whose solve may restart from other starts).
 
     ``verbose`` prints one line per iteration and a summary with Python's
     ``print`` (C++ would write to stderr, which notebooks and
