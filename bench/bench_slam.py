@@ -108,7 +108,9 @@ def worker(tool, path, out_npy, iterations):
         with tempfile.TemporaryDirectory() as d:
             out = Path(d) / "out.g2o"
             t0 = time.perf_counter()
-            r = subprocess.run([_cli_exe(), "-i", str(iterations), "-c", conv, "-s", solver,
+            # -t 1: one thread, as every system here (the CLI's default gives
+            # CHOLMOD's BLAS every core).
+            r = subprocess.run([_cli_exe(), "-t", "1", "-i", str(iterations), "-c", conv, "-s", solver,
                                 "-o", str(out), "--function-tolerance", str(TOL), str(path)],
                                capture_output=True, text=True, check=False)
             wall = time.perf_counter() - t0

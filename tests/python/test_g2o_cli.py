@@ -164,3 +164,18 @@ def test_a_file_with_new_tags_solves_from_the_command_line(tmp_path):
     r = run("-solver", "lm_var", "-i", "20", "-q", "-o", str(out), str(TAGS / "se3_offset.g2o"))
     assert r.returncode == 0, r.stderr
     assert "EDGE_SE3_OFFSET 1 2 1 0 " in out.read_text()
+
+
+def test_default_threads_give_the_one_thread_result_and_zero_is_refused(tmp_path):
+    # Without -t the BLAS (CHOLMOD's supernodal factorisation, which a 3D
+    # sphere of 500 poses takes) runs on every core; the optimum is the same.
+    from boxplus.slam import generate
+
+    path = tmp_path / "sphere.g2o"
+    generate.generate("sphere", 3, 500, noise="medium", seed=2).write(path)
+    default = run("-q", str(path))
+    one = run("-q", "-t", "1", str(path))
+    assert default.returncode == 0 and one.returncode == 0, default.stderr + one.stderr
+    assert final_chi2(default.stderr) == pytest.approx(final_chi2(one.stderr), rel=1e-9)
+    zero = run("-t", "0", str(path))
+    assert zero.returncode == 2 and "--threads must be >= 1" in zero.stderr
