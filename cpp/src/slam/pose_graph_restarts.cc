@@ -12,10 +12,11 @@
 //      the convex robust loss lets the inliers place the poses with the
 //      wrong closures' pull bounded, then the plain problem is solved from
 //      there.
-// On the suite's fifteen outlier graphs (bench/bench_pose_graph_suite.py)
-// starts 1–2 alone missed the lowest objective of the peers' runs on three,
-// each of the three starts found the lowest on some graph, and no start
-// found it on all (README "Pose graphs").
+// On the suite's ten 10³-pose graphs with wrong loop closures, both
+// conventions (bench/bench_pose_graph_suite.py), the lowest of the three came
+// from start 3 on 15 of the 20 rows (on some tied, to rounding, with another),
+// from start 2 on 3 and from start 1 on 2; on 12 rows it was below every
+// peer's run (README "Pose graphs").
 #include <chrono>
 #include <cmath>
 #include <cstdio>
