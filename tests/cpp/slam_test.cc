@@ -412,6 +412,9 @@ TEST(PoseGraph, ImplausibleSolutionRestartsAndKeepsTheLowest) {
   const SolveSummary s = pg.Solve(o);
   ASSERT_TRUE(s.usable) << s.message;
   EXPECT_THAT(s.message, ::testing::HasSubstr("from a Huber solution"));
+  // At least one round from the lowest solution so far, stopping when one
+  // does not lower the objective.
+  EXPECT_THAT(s.message, ::testing::HasSubstr("from a Huber solve from the lowest"));
   EXPECT_FALSE(pg.restart_when_implausible());  // only the first solve restarts
   EXPECT_LE(pg.Chi2(), once.Chi2() * (1 + 1e-9));
   EXPECT_NEAR(2 * s.final_cost, pg.Chi2(), 1e-9 * pg.Chi2());
