@@ -17,10 +17,11 @@
 //      a minimum away from the wrong closures' pull, so it hops to another
 //      basin, which is kept only if lower.
 // On the suite's ten 10³-pose graphs with wrong loop closures, both
-// conventions (bench/bench_pose_graph_suite.py), the lowest of the three came
-// from start 3 on 15 of the 20 rows (on some tied, to rounding, with another),
-// from start 2 on 3 and from start 1 on 2; on 12 rows it was below every
-// peer's run (README "Pose graphs").
+// conventions (bench/bench_pose_graph_suite.py), the lowest of starts 1–3
+// came from start 3 on 15 of the 20 rows (on some tied, to rounding), from
+// start 2 on 3 and from start 1 on 2; the rounds of 4 lowered it further on
+// 5 rows; the result was below every peer's run on 13 rows and the peers'
+// minimum on the other 7 (README "Pose graphs").
 #include <chrono>
 #include <cmath>
 #include <cstdio>
