@@ -16,7 +16,7 @@ from pathlib import Path
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import init_camera
+from boxplus.calib import add_projection, init_camera
 from boxplus.geometry import project_pinhole
 from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
@@ -55,7 +55,7 @@ def run_boxplus(obj, imgs, K, world_from_cam, form):
                 o.add_measurement(p_img[j], project_points, [iid, cid], constants=(obj[j],))
         else:
             for j in range(len(obj)):
-                o.add_projection(p_img[j], iid, cid, ident, obj[j], model="simple_radial")
+                add_projection(o, p_img[j], iid, cid, ident, obj[j], model="simple_radial")
     t0 = time.perf_counter()
     r = o.solve()
     t = time.perf_counter() - t0

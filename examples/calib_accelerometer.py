@@ -20,7 +20,7 @@ import argparse
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import add_camera, init_camera, report, rotation_between
+from boxplus.calib import add_board, add_camera, add_gravity, init_camera, report, rotation_between
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
@@ -58,8 +58,8 @@ def calibrate(n_accel: int, rng: np.random.Generator, counts_sigma: float = 2.0,
     accel = o.add_random_var(bp.Rn(a0), name="accel", labels=labels)
     for i, (z, a, pose) in enumerate(zip(Z, A, cam_from_board)):
         w = o.add_random_var(pose.inverse(), name=f"world_from_cam_{i}")
-        o.add_board(z, cam, w, ident, p, sigma=pixel_sigma, group="camera")
-        o.add_gravity(a, w, imu, accel, g_in_world=G_WORLD, sigma=counts_sigma)
+        add_board(o, z, cam, w, ident, p, sigma=pixel_sigma, group="camera")
+        add_gravity(o, a, w, imu, accel, g_in_world=G_WORLD, sigma=counts_sigma)
     result = o.solve()
     return o, accel, imu, result
 

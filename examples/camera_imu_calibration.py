@@ -19,7 +19,15 @@ from typing import Any
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import add_camera, check_views, init_camera, report, rotation_between
+from boxplus.calib import (
+    add_board,
+    add_camera,
+    add_gravity,
+    check_views,
+    init_camera,
+    report,
+    rotation_between,
+)
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
@@ -70,10 +78,10 @@ def calibrate(data, gravity_views=None, estimate_accel=True):
     o.add_measurement(TRUTH["imu_from_cam"].pos, imu_position, [imu_from_cam], sigma=0.005, name="imu_from_cam_by_hand")
     for i, (z_i, pose) in enumerate(zip(z, cam_from_board)):
         world_from_cam = o.add_random_var(pose.inverse(), name=f"world_from_cam_{i}")
-        o.add_board(z_i, camera, world_from_cam, identity, p_in_world, sigma=data["pixel_sigma"],
+        add_board(o, z_i, camera, world_from_cam, identity, p_in_world, sigma=data["pixel_sigma"],
                     group="camera")
         if i in gravity_views:
-            o.add_gravity(g[i], world_from_cam, imu_from_cam, accel, G_WORLD, sigma=data["accel_sigma"],
+            add_gravity(o, g[i], world_from_cam, imu_from_cam, accel, G_WORLD, sigma=data["accel_sigma"],
                           group="accelerometer")
     result = o.solve()
     return o, dict(camera=camera, imu_from_cam=imu_from_cam, accel=accel), result

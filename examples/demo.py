@@ -19,15 +19,15 @@ def main() -> None:
     truth = bp.SE3(bp.SO3.exp([0.3, -0.2, 2.9]), [1.0, 2.0, 0.5])
     sigma = np.array([0.05, 0.05, 0.05, 0.02, 0.02, 0.02])  # m, m, m, rad, rad, rad
 
-    problem = bp.Problem()
-    pose = problem.add_variable(bp.SE3.manifold(), bp.SE3().ambient, "cam_to_world")
+    problem = bp.OptimizationProblem()
+    pose = problem.add_random_var(bp.SE3(), name="world_from_cam")
     for i in range(20):
         z = truth + rng.normal(0.0, sigma)
-        problem.add_prior(pose, z.ambient, bp.NoiseModel.sigmas(sigma), name=f"obs{i}")
+        problem.add_prior(pose, z, sigma=sigma, name=f"obs{i}")
 
-    summary = problem.solve(verbose=False)
-    est = bp.SE3.from_ambient(problem.value(pose))
-    std = np.sqrt(np.diag(problem.covariance(pose)))
+    summary = problem.solve()
+    est = problem[pose]
+    std = problem.std(pose)
     err = est - truth
     print(f"boxplus {bp.__version__} demo: fusing 20 noisy SE(3) observations")
     print(f"  solver: {summary.termination}, {summary.iterations} iterations, "

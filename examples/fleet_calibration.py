@@ -43,7 +43,7 @@ from typing import Any
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import report
+from boxplus.calib import add_board, add_gravity, report
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
@@ -122,9 +122,9 @@ def build(rig: Rig, rng: np.random.Generator | None = None) -> bp.OptimizationPr
             seen = ~np.isnan(z).all(axis=1)  # corners outside the image are NaN rows
             if not seen.any():
                 continue
-            o.add_board(z[seen], k[cam], pose, cam_from_rig, p_in_world[seen], sigma=PIXEL_SIGMA,
+            add_board(o, z[seen], k[cam], pose, cam_from_rig, p_in_world[seen], sigma=PIXEL_SIGMA,
                         model=MODEL, group=f"board_{cam}", name=f"{cam}_{i}")
-        o.add_gravity(rig.g[i], pose, imu, accel, G_WORLD, sigma=ACCEL_SIGMA, group="accelerometer")
+        add_gravity(o, rig.g[i], pose, imu, accel, G_WORLD, sigma=ACCEL_SIGMA, group="accelerometer")
     return o
 
 

@@ -22,7 +22,7 @@ from typing import Any
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import board_pose, hand_eye_park, mean_pose, report
+from boxplus.calib import add_board, board_pose, hand_eye_park, mean_pose, report
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 # Any: the true values of different manifolds (poses, intrinsics vectors, ...).
@@ -60,7 +60,7 @@ def calibrate(data):
     board_from_base = o.add_random_var(Z0.inverse(), name="board_from_base")
     for i, (z, G) in enumerate(zip(data["z"], data["G"])):
         board_from_gripper = o.add_random_var(Z0.inverse() * G, name=f"board_from_gripper_{i}")
-        o.add_board(z, camera, board_from_gripper, cam_from_gripper, data["p"], sigma=data["pixel_sigma"],
+        add_board(o, z, camera, board_from_gripper, cam_from_gripper, data["p"], sigma=data["pixel_sigma"],
                     group="camera")
         o.add_relative_pose(G, board_from_base, board_from_gripper, sigma=data["robot_sigma"], group="robot")
     o.solve()

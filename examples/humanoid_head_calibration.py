@@ -43,7 +43,11 @@ from typing import Any
 import boxplus as bp
 import numpy as np
 from boxplus.calib import (
+    add_board,
     add_camera,
+    add_dh_marker,
+    add_gravity,
+    add_marker,
     init_camera,
     marker_hand_eye,
     relative_pose_init,
@@ -215,11 +219,11 @@ def calibrate(data, kinematics="known", dh_prior=True):
                       sigma=data["imu_by_hand_sigma"], name="imu_from_left_by_hand")
     for i, (b, T) in enumerate(zip(B, left_from_board)):
         world_from_left = o.add_random_var(T.inverse(), name=f"world_from_left_{i}")
-        o.add_board(b["z_left"], left, world_from_left, identity, p[b["vis_left"]], sigma=data["pixel_sigma"],
+        add_board(o, b["z_left"], left, world_from_left, identity, p[b["vis_left"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="board left")
-        o.add_board(b["z_right"], right, world_from_left, right_from_left, p[b["vis_right"]],
+        add_board(o, b["z_right"], right, world_from_left, right_from_left, p[b["vis_right"]],
                     sigma=data["pixel_sigma"], model=MODEL, group="board right")
-        o.add_gravity(b["g"], world_from_left, imu_from_left, None, G_WORLD, sigma=data["accel_sigma"], group="imu")
+        add_gravity(o, b["g"], world_from_left, imu_from_left, None, G_WORLD, sigma=data["accel_sigma"], group="imu")
     o.solve()  # the board step: cameras, stereo, IMU rotation
 
     # ---- markers: triangulate with the board step, then marker_hand_eye (closed form)
@@ -249,10 +253,10 @@ def calibrate(data, kinematics="known", dh_prior=True):
         for _j, a in enumerate(arms[side]):
             for cam, cam_from_left, z in ((left, identity, a["z_left"]), (right, right_from_left, a["z_right"])):
                 if kinematics == "known":
-                    o.add_marker(z, cam, head_from_left, ph, cam_from_left, a["head_from_hand"], sigma=data["marker_sigma"],
+                    add_marker(o, z, cam, head_from_left, ph, cam_from_left, a["head_from_hand"], sigma=data["marker_sigma"],
                                  model=MODEL, group=f"marker {side}")
                 else:
-                    o.add_dh_marker(z, cam, head_from_left, ph, cam_from_left, dh, a["q"],
+                    add_dh_marker(o, z, cam, head_from_left, ph, cam_from_left, dh, a["q"],
                                     base_from_chain=base_from_chain(side, a["pan"], a["tilt"]),
                                     sigma=data["marker_sigma"], model=MODEL, group=f"marker {side}")
     result = o.solve()  # everything jointly

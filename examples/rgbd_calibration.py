@@ -42,7 +42,10 @@ from typing import Any
 import boxplus as bp
 import numpy as np
 from boxplus.calib import (
+    add_board,
     add_camera,
+    add_disparity,
+    add_gravity,
     init_camera,
     relative_pose_init,
     report,
@@ -121,13 +124,13 @@ def calibrate(data):
                       sigma=data["accel_by_hand_sigma"], name="accel_from_rgb_by_hand")
     for i, (v, T) in enumerate(zip(V, rgb_from_board)):
         world_from_rgb = o.add_random_var(T.inverse(), name=f"world_from_rgb_{i}")
-        o.add_board(v["z_rgb"], rgb, world_from_rgb, identity, p[v["vis_rgb"]], sigma=data["pixel_sigma"],
+        add_board(o, v["z_rgb"], rgb, world_from_rgb, identity, p[v["vis_rgb"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="rgb")
-        o.add_board(v["z_ir"], ir, world_from_rgb, ir_from_rgb, p[v["vis_ir"]], sigma=data["pixel_sigma"],
+        add_board(o, v["z_ir"], ir, world_from_rgb, ir_from_rgb, p[v["vis_ir"]], sigma=data["pixel_sigma"],
                     model=MODEL, group="ir")
         for d, p_in_world in zip(v["d"], p[v["d_mask"]]):
-            o.add_disparity(d, world_from_rgb, ir_from_rgb, disparity, p_in_world, sigma=data["disparity_sigma"])
-        o.add_gravity(v["g"], world_from_rgb, accel_from_rgb, accel, G_WORLD, sigma=data["accel_sigma"],
+            add_disparity(o, d, world_from_rgb, ir_from_rgb, disparity, p_in_world, sigma=data["disparity_sigma"])
+        add_gravity(o, v["g"], world_from_rgb, accel_from_rgb, accel, G_WORLD, sigma=data["accel_sigma"],
                       group="accelerometer")
     result = o.solve()
     ids = dict(rgb=rgb, ir=ir, ir_from_rgb=ir_from_rgb, disparity=disparity, accel_from_rgb=accel_from_rgb, accel=accel)

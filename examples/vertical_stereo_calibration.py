@@ -31,7 +31,7 @@ from typing import Any
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import add_camera, init_camera, relative_pose_init, report, synthetic
+from boxplus.calib import add_board, add_camera, init_camera, relative_pose_init, report, synthetic
 from boxplus.calib.synthetic import board_points, observe, random_views
 
 MODEL = "radial2"
@@ -93,14 +93,14 @@ def calibrate(data, use_mono=True):
     sigma = data["pixel_sigma"]
     for i, (s, T) in enumerate(zip(S, cam_from_board["top"])):
         world_from_top = o.add_random_var(T.inverse(), name=f"world_from_top_{i}")
-        o.add_board(s["z_top"], top, world_from_top, identity, p[s["vis_top"]], sigma=sigma, model=MODEL,
+        add_board(o, s["z_top"], top, world_from_top, identity, p[s["vis_top"]], sigma=sigma, model=MODEL,
                     group="stereo top")
-        o.add_board(s["z_bottom"], bottom, world_from_top, bottom_from_top, p[s["vis_bottom"]], sigma=sigma,
+        add_board(o, s["z_bottom"], bottom, world_from_top, bottom_from_top, p[s["vis_bottom"]], sigma=sigma,
                     model=MODEL, group="stereo bottom")
     for cam, cid in (("top", top), ("bottom", bottom)):
         for j, (z, T) in enumerate(zip(mono[cam], cam_from_board[cam][n:])):
             world_from_cam = o.add_random_var(T.inverse(), name=f"world_from_{cam}_mono_{j}")
-            o.add_board(z, cid, world_from_cam, identity, p, sigma=sigma, model=MODEL, group=f"mono {cam}")
+            add_board(o, z, cid, world_from_cam, identity, p, sigma=sigma, model=MODEL, group=f"mono {cam}")
     result = o.solve()
     return o, dict(top=top, bottom=bottom, bottom_from_top=bottom_from_top), result
 

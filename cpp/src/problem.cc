@@ -427,6 +427,33 @@ Eigen::VectorXd Problem::Error(int measurement_id) {
   return noise.dim() == 0 ? r : noise.Unwhiten(r);
 }
 
+Eigen::VectorXd Problem::Errors(const std::vector<int>& measurement_ids, bool whitened) {
+  const Busy busy(*this, "Errors", /*reentrant=*/true);
+  Eigen::Index size = 0;
+  for (int id : measurement_ids) {
+    CheckMeasurement(id);
+    size += meas_[id].cost->num_residuals();
+  }
+  Eigen::VectorXd out(size);
+  if (measurement_ids.empty()) return out;
+  hooks_->PrepareForEvaluation(false, true);
+  std::vector<const double*> blocks;
+  Eigen::Index at = 0;
+  for (int id : measurement_ids) {
+    const Measurement& m = meas_[id];
+    const int n = m.cost->num_residuals();
+    blocks.clear();
+    for (int v : m.vars) blocks.push_back(vars_[v]->data.get());
+    BOXPLUS_CHECK(m.cost->Evaluate(blocks.data(), out.data() + at, nullptr), "measurement '",
+                  measurement_name(id), "': evaluation failed");
+    if (!whitened && m.noise.dim() != 0) {
+      out.segment(at, n) = m.noise.Unwhiten(out.segment(at, n));
+    }
+    at += n;
+  }
+  return out;
+}
+
 double Problem::Cost() {
   const Busy busy(*this, "Cost");
   double cost = 0.0;

@@ -14,6 +14,7 @@ void RegisterManifolds(pybind11::module_& m);
 void RegisterPythonManifold(pybind11::module_& m);
 void RegisterValues(pybind11::module_& m);
 void RegisterProblem(pybind11::module_& m);
+void RegisterFactor(pybind11::module_& m);
 void RegisterPythonMeasurements(pybind11::module_& m);
 // The factors, one function per domain (bindings/factors/<domain>.cc).
 void RegisterCameraFactors(pybind11::module_& m);

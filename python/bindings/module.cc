@@ -12,6 +12,7 @@ PYBIND11_MODULE(_core, m) {
   boxplus::python::RegisterPythonManifold(m);
   boxplus::python::RegisterValues(m);
   boxplus::python::RegisterProblem(m);
+  boxplus::python::RegisterFactor(m);
   boxplus::python::RegisterPythonMeasurements(m);
   boxplus::python::RegisterCameraFactors(m);
   boxplus::python::RegisterKinematicsFactors(m);

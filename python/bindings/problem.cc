@@ -1,11 +1,10 @@
-// Bindings of boxplus::Problem: variables, priors, solving (with the GIL
+// Bindings of boxplus::Problem: variables, solving (with the GIL
 // released, Ctrl-C honoured between iterations), covariances.
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
 #include "bindings.h"
-#include "boxplus/factors/pose/prior.h"
 #include "boxplus/manifolds.h"
 #include "boxplus/problem.h"
 #include "manifold_handle.h"
@@ -133,18 +132,6 @@ The public, friendlier front is boxplus.OptimizationProblem.
       .def("measurement_variables", &Problem::measurement_variables, py::arg("id"))
       .def("set_fixed", &Problem::SetFixed, py::arg("id"), py::arg("fixed") = true)
       .def("is_fixed", &Problem::IsFixed, py::arg("id"))
-      .def(
-          "add_prior",
-          [](Problem& p, int id, const Eigen::VectorXd& z, const NoiseModel& noise,
-             const std::string& name, const std::optional<LossHandle>& loss) {
-            const std::string what =
-                "measurement '" + (name.empty() ? std::string("prior") : name) + "'";
-            return p.AddMeasurement(MakePrior(p.manifold(id), z, noise, what), {id}, noise,
-                                    loss ? loss->loss : nullptr, name);
-          },
-          py::arg("id"), py::arg("z"), py::arg("noise"), py::arg("name") = "",
-          py::arg("loss") = py::none(),
-          "Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.")
       .def("noise", &Problem::noise, py::arg("measurement_id"),
            "The noise model a measurement whitens with.")
       .def(

@@ -1,9 +1,10 @@
 // Python measurement functions inside Ceres.
 //
 // A Python `prepare(jacobians, new_point)` evaluates a whole group of
-// measurements (residuals and tangent Jacobians, by finite differences in
-// Python/numpy) and returns arrays; C++ serves Ceres from them through
-// CachedCostFunction (cached_cost.h). Python errors raised there are kept in
+// measurements (errors f(Y) ⊟ z and their tangent Jacobians, by finite
+// differences in Python/numpy) and returns arrays; C++ whitens them with each
+// measurement's NoiseModel and serves Ceres through CachedCostFunction
+// (cached_cost.h). Python errors raised there are kept in
 // the current call's ErrorSlot (pending_error.h) and re-raised after Ceres
 // returns.
 #include <pybind11/numpy.h>
@@ -12,6 +13,7 @@
 #include "bindings.h"
 #include "boxplus/problem.h"
 #include "cached_cost.h"
+#include "factor.h"
 #include "manifold_handle.h"
 #include "pending_error.h"
 
@@ -50,7 +52,7 @@ class PyResidualCache final : public ResidualCache {
       }
       py::tuple out = result;
       Array R = Array::ensure(out[0]);
-      Check(R, {count_, m_}, "residuals");
+      Check(R, {count_, m_}, "errors");
       std::vector<Array> J;
       if (jacobians) {
         py::list js = out[1];
@@ -80,7 +82,7 @@ class PyResidualCache final : public ResidualCache {
     }
     return ok_;
   }
-  const double* Residual(int index) const override { return R_.data() + index * m_; }
+  const double* Error(int index) const override { return R_.data() + index * m_; }
   const double* TangentJacobian(int index, int slot) const override {
     return J_[slot].data() + index * m_ * tangent_[slot];
   }
@@ -114,8 +116,10 @@ class PyResidualCache final : public ResidualCache {
 void RegisterPythonMeasurements(py::module_& m) {
   py::class_<PyResidualCache, std::shared_ptr<PyResidualCache>>(m, "ResidualCache", R"doc(
 A group of measurements evaluated together by a Python callable
-``prepare(jacobians: bool, new_point: bool) -> (R, Js)`` with R of shape (N, m)
-and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
+``prepare(jacobians: bool, new_point: bool) -> (E, Js)`` with the errors E of
+shape (N, m), not whitened, and, when jacobians is True, Js a list of
+(N, m, tangent_size_k) arrays (their Jacobians). Each measurement's
+NoiseModel whitens them in C++ (``cached_factor``).
 )doc")
       .def(py::init([](py::object prepare, int residual_size, std::vector<int> tangent_sizes,
                        std::string name) {
@@ -129,6 +133,37 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
            py::arg("prepare"), py::arg("residual_size"), py::arg("tangent_sizes"),
            py::arg("name") = "");
 
+  m.def(
+      "cached_factor",
+      [](const Problem& p, std::shared_ptr<PyResidualCache> cache, const std::vector<int>& ids,
+         const NoiseModel& noise, const std::string& what) {
+        if (ids.empty()) throw py::value_error(what + ": depends on no variable (ids is empty)");
+        if (ids.size() != cache->tangent_sizes().size()) {
+          throw py::value_error(what + ": wrong number of variables");
+        }
+        if (noise.dim() != cache->residual_size()) {
+          throw py::value_error(what + ": noise of dimension " + std::to_string(noise.dim()) +
+                                " for an error of " + std::to_string(cache->residual_size()) +
+                                " entries");
+        }
+        std::vector<const ceres::Manifold*> ms;
+        for (size_t k = 0; k < ids.size(); ++k) {
+          const ceres::Manifold& mf = p.manifold(ids[k]);  // raises IndexError
+          if (mf.TangentSize() != cache->tangent_sizes()[k]) {
+            throw py::value_error(what + ": variable " + std::to_string(ids[k]) +
+                                  " has the wrong number of degrees of freedom");
+          }
+          ms.push_back(&mf);
+        }
+        const int index = cache->Add();
+        return Factor{
+            std::make_shared<CachedCostFunction>(cache, index, cache->residual_size(), ms, noise),
+            ids, noise};
+      },
+      py::arg("problem"), py::arg("cache"), py::arg("ids"), py::arg("noise"),
+      py::arg("what") = "measurement",
+      "The next measurement of a ResidualCache group, on variables ids, whitened by noise.");
+
   py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
   problem
       .def(
@@ -138,31 +173,6 @@ and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
                 [cache](bool jacobians, bool new_point) { cache->Prepare(jacobians, new_point); });
           },
           py::arg("cache"), "Registers a group so that it is evaluated before each solver step.")
-      .def(
-          "add_cached_measurement",
-          [](Problem& p, std::shared_ptr<PyResidualCache> cache, const std::vector<int>& ids,
-             const std::optional<LossHandle>& loss, const std::string& name) {
-            const std::string what = "measurement '" + name + "'";
-            if (ids.empty())
-              throw py::value_error(what + ": depends on no variable (ids is empty)");
-            if (ids.size() != cache->tangent_sizes().size()) {
-              throw py::value_error(what + ": wrong number of variables");
-            }
-            std::vector<const ceres::Manifold*> ms;
-            for (size_t k = 0; k < ids.size(); ++k) {
-              const ceres::Manifold& mf = p.manifold(ids[k]);  // raises IndexError
-              if (mf.TangentSize() != cache->tangent_sizes()[k]) {
-                throw py::value_error(what + ": variable " + std::to_string(ids[k]) +
-                                      " has the wrong number of degrees of freedom");
-              }
-              ms.push_back(&mf);
-            }
-            const int index = cache->Add();
-            auto cost =
-                std::make_shared<CachedCostFunction>(cache, index, cache->residual_size(), ms);
-            return p.AddMeasurement(cost, ids, loss ? loss->loss : nullptr, name);
-          },
-          py::arg("cache"), py::arg("ids"), py::arg("loss") = py::none(), py::arg("name") = "")
       .def(
           "values",
           [](const Problem& p, const std::vector<int>& ids) {

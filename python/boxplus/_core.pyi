@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'camera_model_size', 'exact_value', 'format_progress', 'format_summary', 'gravity_model_size', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'progress_header']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1060,47 +1060,9 @@ class Problem:
         ...
     def __repr__(self) -> str:
         ...
-    def add_cached_measurement(self, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], loss: Loss | None = None, name: str = '') -> int:
-        ...
-    def add_dh_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, dh: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, joints: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], base_from_chain: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], flange_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
+    def add_factor(self, factor: Factor, loss: Loss | None = None, name: str = '') -> int:
         """
-        Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) from joint readings; see factors/kinematics/marker.h.
-        """
-    def add_disparity(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, disparity_params: typing.SupportsInt | typing.SupportsIndex, d: typing.SupportsFloat | typing.SupportsIndex, noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
-        """
-        Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see factors/depth/disparity.h.
-        """
-    def add_gravity(self, model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None, imu_size: typing.SupportsInt | typing.SupportsIndex = 7) -> int:
-        """
-        Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see factors/imu/gravity.h.
-        """
-    def add_joint_term(self, spec: dict, noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
-        """
-        One term of joint calibration (link, distance, plane, line, line_anchor, projection, target_projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
-        """
-    def add_marker(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], name: str = '', loss: Loss | None = None) -> int:
-        """
-        Marker on a hand, base_from_hand from forward kinematics (constant); see factors/kinematics/marker.h.
-        """
-    def add_pinhole_board(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"], name: str = '', loss: Loss | None = None) -> int:
-        """
-        All points of a board in one residual block: z (N, 2) pixels, p_in_world (N, 3), noise of one corner (2-dim); see factors/camera/board.h.
-        """
-    def add_pinhole_point(self, model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
-        """
-        Projection r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z); see factors/camera/point_projection.h.
-        """
-    def add_point(self, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_world_id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], name: str = '', loss: Loss | None = None) -> int:
-        """
-        3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/observed_point.h.
-        """
-    def add_prior(self, id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
-        """
-        Adds r = W (x ⊟ z) on variable id; z in ambient coordinates, W the noise's whitening.
-        """
-    def add_relative_pose(self, world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, name: str = '', loss: Loss | None = None) -> int:
-        """
-        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/pose/relative_pose.h.
+        Adds a factor; returns its measurement id. The problem keeps its NoiseModel, so error() and errors() are in the measurement's own units.
         """
     def add_residual_cache(self, cache: ResidualCache) -> None:
         """
@@ -1119,6 +1081,10 @@ class Problem:
     def error(self, measurement_id: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         Un-whitened error e = W⁻¹ r of one measurement, in its own units.
+        """
+    def errors(self, measurement_ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], whitened: bool = False) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        """
+        Errors e = W⁻¹ r (or, whitened, the residuals r) of several measurements, concatenated in the order given, the measurements evaluated once.
         """
     def evaluate_jacobian(self) -> dict:
         """
@@ -1186,11 +1152,31 @@ class Problem:
     @property
     def num_variables(self) -> int:
         ...
+class Factor:
+    """
+    A measurement built by one of the factor functions of ``boxplus._core``
+    (whitened residual r = W e, its variables, its NoiseModel), ready for
+    ``Problem.add_factor``. Not picklable: a problem is copied by replaying the
+    public calls that built it (:mod:`boxplus._journal`).
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def noise(self) -> NoiseModel:
+        ...
+    @property
+    def residual_size(self) -> int:
+        ...
+    @property
+    def variables(self) -> list[int]:
+        ...
 class ResidualCache:
     """
     A group of measurements evaluated together by a Python callable
-    ``prepare(jacobians: bool, new_point: bool) -> (R, Js)`` with R of shape (N, m)
-    and, when jacobians is True, Js a list of (N, m, tangent_size_k) arrays.
+    ``prepare(jacobians: bool, new_point: bool) -> (E, Js)`` with the errors E of
+    shape (N, m), not whitened, and, when jacobians is True, Js a list of
+    (N, m, tangent_size_k) arrays (their Jacobians). Each measurement's
+    NoiseModel whitens them in C++ (``cached_factor``).
     """
     def __init__(self, prepare: typing.Any, residual_size: typing.SupportsInt | typing.SupportsIndex, tangent_sizes: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], name: str = '') -> None:
         ...
@@ -1448,9 +1434,25 @@ def _native_log_emit(severity: typing.SupportsInt | typing.SupportsIndex, messag
     """
     Logs one glog message from C++, as Ceres does (for the tests of the routing).
     """
+def board_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 2]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 3]"]) -> Factor:
+    """
+    All points of a board in one residual block: z (N, 2) pixels, p_in_world (N, 3), noise of one corner (2-dim); see factors/camera/board.h.
+    """
+def cached_factor(problem: Problem, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], noise: NoiseModel, what: str = 'measurement') -> Factor:
+    """
+    The next measurement of a ResidualCache group, on variables ids, whitened by noise.
+    """
 def camera_model_size(model: str) -> int:
     """
     Number of intrinsic parameters of a camera model.
+    """
+def dh_marker_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, dh: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, joints: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], base_from_chain: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], flange_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"]) -> Factor:
+    """
+    Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) from joint readings; see factors/kinematics/marker.h.
+    """
+def disparity_factor(world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, disparity_params: typing.SupportsInt | typing.SupportsIndex, d: typing.SupportsFloat | typing.SupportsIndex, noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> Factor:
+    """
+    Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see factors/depth/disparity.h.
     """
 def exact_value(kind: str, ambient: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> typing.Any:
     """
@@ -1464,9 +1466,17 @@ def format_summary(summary: SolveSummary) -> str:
     """
     The closing line of a solve: termination, χ² before → after, time.
     """
+def gravity_factor(model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], imu_size: typing.SupportsInt | typing.SupportsIndex = 7) -> Factor:
+    """
+    Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see factors/imu/gravity.h.
+    """
 def gravity_model_size(model: str) -> int:
     """
     Size of the accelerometer block of a gravity model (rotation 0, scale 1, scale_bias 4, axis_scale_bias 6, axis_scale_bias_misalignment 9).
+    """
+def joint_factor(problem: Problem, spec: dict, noise: NoiseModel, what: str = 'joint term') -> Factor:
+    """
+    One term of joint calibration (link, distance, plane, line, line_anchor, projection, target_projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
     """
 def loss_names() -> list[str]:
     """
@@ -1484,13 +1494,33 @@ def make_python_manifold(ambient_size: typing.SupportsInt | typing.SupportsIndex
     """
     A manifold whose ⊞ (plus(x, δ)) and ⊟ (minus(y, x)) are Python functions on ambient vectors.
     """
+def marker_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, base_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"]) -> Factor:
+    """
+    Marker on a hand, base_from_hand from forward kinematics (constant); see factors/kinematics/marker.h.
+    """
+def point_factor(world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_world_id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], what: str = 'point') -> Factor:
+    """
+    3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see factors/pose/observed_point.h.
+    """
+def point_projection_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, world_from_rig: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> Factor:
+    """
+    Projection r = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world) − z); see factors/camera/point_projection.h.
+    """
 def pose_graph_solver_defaults() -> dict:
     """
     The solver settings boxplus uses for pose graphs (boxplus::slam::DefaultSolverOptions), as keyword arguments of Problem.solve.
     """
+def prior_factor(problem: Problem, id: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, what: str = 'prior') -> Factor:
+    """
+    r = W (x ⊟ z) on variable id of the problem (any built-in manifold); z in ambient coordinates; see factors/pose/prior.h.
+    """
 def progress_header() -> str:
     """
     The column titles of format_progress lines.
+    """
+def relative_pose_factor(world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, what: str = 'relative pose') -> Factor:
+    """
+    r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/pose/relative_pose.h.
     """
 __version__: str = '0.1.0'
 pose_graph_implausible_chi2_per_dof: float = 10.0

@@ -3,15 +3,16 @@
 Measurements whose function f is written in Python are kept in groups (one
 per function and kind of variables) and evaluated together: before each
 solver step the C++ problem calls the group's ``_prepare``, which computes
-every residual r = W (f(Y) ⊟ z) and, when asked, its Jacobians in the tangent
-spaces of the variables by central differences through ⊞:
+every error e = f(Y) ⊟ z and, when asked, its Jacobians in the tangent spaces
+of the variables by central differences through ⊞:
 
-    ∂r/∂δⱼ ≈ W (f(Y ⊞ hⱼ eⱼ) ⊟ z − f(Y ⊞ (−hⱼ) eⱼ) ⊟ z) / (2 hⱼ),
+    ∂e/∂δⱼ ≈ (f(Y ⊞ hⱼ eⱼ) ⊟ z − f(Y ⊞ (−hⱼ) eⱼ) ⊟ z) / (2 hⱼ),
 
 with hⱼ = 1e-6 × ``Codec.tangent_scale`` (relative for Rⁿ coordinates, absolute
-for rotations). W is the measurement's NoiseModel whitening
-(:mod:`boxplus.noise`). C++ serves Ceres from the arrays returned
-(python/bindings/cached_cost.h).
+for rotations). C++ whitens them with each measurement's NoiseModel
+(r = W e, :mod:`boxplus.noise`), as it does for its own factors, and serves
+Ceres from the arrays returned (python/bindings/cached_cost.h); the noise
+never comes back to Python.
 """
 
 from __future__ import annotations
@@ -95,13 +96,11 @@ class Group:
         self.slots = list(slot_codecs)
         self.ids: list[tuple[int, ...]] = []
         self.z_rows: list[np.ndarray] = []
-        self.W_rows: list[np.ndarray] = []
         self.const_rows: list[tuple[Any, ...]] = []  # unbatched: per measurement
         self.const_chunks: list[tuple[Any, ...]] = []  # vectorized: per add call
         self.meas_ids: list[int] = []
         self.keepalive: list[Any] = []  # shared constants, whose ids are part of the group key
-        self._packed: tuple[np.ndarray, np.ndarray, np.ndarray, tuple[Any, ...]] | None = None
-        self._shared_W: np.ndarray | None = None
+        self._packed: tuple[np.ndarray, np.ndarray, tuple[Any, ...]] | None = None
         self._X: list[np.ndarray] | None = None
         self._R: np.ndarray | None = None
         self._J: list[np.ndarray] | None = None
@@ -112,12 +111,14 @@ class Group:
     def append(self, ids, z_rows, noises: Sequence[_core.NoiseModel], consts, loss,
                names) -> list[int]:
         """Adds measurements (rows of ids, z, noise; constants per row or per chunk)."""
+        core = self.problem._core
         out = []
         for k in range(len(ids)):
-            mid = self.problem._core.add_cached_measurement(self.cache, list(ids[k]), loss, names[k])
+            what = f"measurement '{names[k] or self.name}'"
+            factor = _core.cached_factor(core, self.cache, list(ids[k]), noises[k], what)
+            mid = core.add_factor(factor, loss, names[k])
             self.ids.append(tuple(ids[k]))
             self.z_rows.append(z_rows[k])
-            self.W_rows.append(noises[k].sqrt_information_matrix)
             self.meas_ids.append(mid)
             out.append(mid)
         if self.vectorized:
@@ -131,7 +132,6 @@ class Group:
         if self._packed is None:
             ids = np.asarray(self.ids, dtype=int).reshape(len(self.ids), len(self.slots))
             Z = np.asarray(self.z_rows, dtype=float)
-            W = np.asarray(self.W_rows, dtype=float)
             if self.vectorized and self.const_chunks:
                 C = tuple(
                     np.concatenate([ch[i] for ch in self.const_chunks], axis=0)
@@ -141,8 +141,7 @@ class Group:
                 )
             else:
                 C = ()
-            self._packed = (ids, Z, W, C)
-            self._shared_W = W[0] if len(W) and np.all(W == W[0]) else None
+            self._packed = (ids, Z, C)
         return self._packed
 
     def _what(self, i: int) -> str:
@@ -154,7 +153,7 @@ class Group:
     def errors(self, Xs: Sequence[np.ndarray], views: list[Any] | None = None) -> np.ndarray:
         """Unwhitened errors f(Y) ⊟ z, one row per measurement, at ambient values Xs
         (``views``: batches of Xs already built, None where still to build)."""
-        _, Z, _, C = self._pack()
+        _, Z, C = self._pack()
         if self.vectorized:
             views = [
                 v if v is not None else batch.view(c, X)
@@ -183,11 +182,6 @@ class Group:
         ids, *_ = self._pack()
         return [self.problem._core.values(ids[:, k].tolist()) for k in range(len(self.slots))]
 
-    def whitened(self, E: np.ndarray) -> np.ndarray:
-        """r = W e row by row."""
-        self._pack()
-        return self._whiten(E)
-
     def _check_finite(self, A: np.ndarray, Xs: Sequence[np.ndarray], what: str) -> None:
         bad = ~np.all(np.isfinite(A.reshape(A.shape[0], -1)), axis=1)
         if bad.any():
@@ -208,7 +202,7 @@ class Group:
             E = self.errors(Xs)
             self._check_finite(E, Xs, "residual")
             self._X = Xs
-            self._R = self._whiten(E)
+            self._R = E
             self._J = None
         if jacobians and self._J is None:
             self._J = self._jacobians()
@@ -239,12 +233,5 @@ class Group:
                     E.append(self.errors(moved, views))
                 J[:, :, j] = (E[0] - E[1]) / (2 * h[:, j : j + 1])
             self._check_finite(J, Xs, f"Jacobian (variable {k})")
-            out.append(self._whiten(J))
+            out.append(J)
         return out
-
-    def _whiten(self, A: np.ndarray) -> np.ndarray:
-        """W A row by row (A: (N, m) or (N, m, t)); one matrix product when W is shared."""
-        _, _, W, _ = self._pack()
-        if self._shared_W is not None:
-            return A @ self._shared_W.T if A.ndim == 2 else np.einsum("ij,njt->nit", self._shared_W, A)
-        return np.einsum("nij,nj->ni", W, A) if A.ndim == 2 else np.einsum("nij,njt->nit", W, A)

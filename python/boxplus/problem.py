@@ -16,9 +16,17 @@ forms:
   whole batch at once (numpy in, numpy out; see :mod:`boxplus.batch`), the fast
   form.
 
-Measurements written in C++ (``add_prior`` and the built-in factors) mix freely
-with both. Every ``add_*`` takes the noise as ``sigma=`` (σ or σᵢ),
-``covariance=`` (Σ), ``information=`` (Ω) or ``noise=`` (a NoiseModel).
+Measurements written in C++ mix freely with both: the generic ones here
+(``add_prior``, ``add_relative_pose``, ``add_point``) and those of the domain
+packages (``boxplus.calib.add_board`` and the other sensor factors,
+``boxplus.joint``), which all enter through :meth:`add_factor`. Every
+``add_*`` takes the noise as ``sigma=`` (σ or σᵢ), ``covariance=`` (Σ),
+``information=`` (Ω) or ``noise=`` (a NoiseModel); the NoiseModel lives in
+C++ with the measurement, Python measurements included, so ``errors()`` and
+``rms()`` un-whiten every measurement on one path.
+
+The calls that build a problem are journalled (:mod:`boxplus._journal`), so a
+problem pickles, copies and rebuilds itself for parallel work.
 """
 
 from __future__ import annotations
@@ -28,10 +36,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from boxplus import _core, _description, batch, solver
-from boxplus.calib.factors import CalibrationFactors
+from boxplus import _core, _journal, batch, solver
+from boxplus._journal import journalled
 from boxplus.losses import LossSpec, make_loss
-from boxplus.manifolds import Codec, codec_of
+from boxplus.manifolds import SE3, Codec, codec_of
 from boxplus.measurements import EvaluationError, Group, batch_errors, note, vector_error
 from boxplus.noise import NoiseModel, noise_model, noise_models
 
@@ -49,7 +57,7 @@ def _is_id(v: Any) -> bool:
     return isinstance(v, (int, np.integer)) and not isinstance(v, (bool, np.bool_))
 
 
-class OptimizationProblem(CalibrationFactors):
+class OptimizationProblem:
     """A least-squares problem on manifolds (MTKM's OptimizationProblem).
 
     Examples
@@ -66,7 +74,7 @@ class OptimizationProblem(CalibrationFactors):
         self._codecs: list[Codec] = []
         self._groups: dict[tuple[Any, ...], Group] = {}
         self._meas_group: dict[int, str] = {}
-        self._python_mids: set[int] = set()
+        self._group_dims: dict[str, int] = {}  # group -> rows' width (the noise's dimension)
         self._labels: dict[int, list[str]] = {}
         self._touched: set[int] = set()  # variables some measurement depends on
         self._touched_upto = 0  # measurements already counted in _touched
@@ -86,6 +94,7 @@ class OptimizationProblem(CalibrationFactors):
                 + (f" ({meas})" if meas else "") + ">")
 
     # ---- variables -------------------------------------------------------------------
+    @journalled
     def add_random_var(
         self, value: Any, fixed: bool = False, name: str | None = None,
         labels: Sequence[str] | None = None,
@@ -131,6 +140,7 @@ class OptimizationProblem(CalibrationFactors):
 
     __getitem__ = value
 
+    @journalled
     def set_value(self, vid: int, value: Any) -> None:
         codec = self.codec(vid)
         if _codec_or_none(value) is not codec:
@@ -150,11 +160,13 @@ class OptimizationProblem(CalibrationFactors):
     def num_measurements(self) -> int:
         return self._core.num_measurements
 
+    @journalled
     def fix(self, vid: int) -> None:
         """Holds variable ``vid`` constant during solves."""
         self.codec(vid)
         self._core.set_fixed(int(vid), True)
 
+    @journalled
     def unfix(self, vid: int) -> None:
         self.codec(vid)
         self._core.set_fixed(int(vid), False)
@@ -163,8 +175,8 @@ class OptimizationProblem(CalibrationFactors):
         self.codec(vid)
         return self._core.is_fixed(int(vid))
 
-    # ---- hooks for the measurement kinds (here and in calib/factors.py) -----------------
-    def _check_ids(self, ids: Any, what: str) -> list[int]:
+    # ---- what the measurement kinds share (here and in the domain packages) -------------
+    def check_ids(self, ids: Any, what: str) -> list[int]:
         """The variable ids of a measurement as ints: one id or a sequence of distinct ids."""
         if _is_id(ids):
             ids = [ids]
@@ -183,9 +195,40 @@ class OptimizationProblem(CalibrationFactors):
         return out
 
     def _register(self, mid: int, group: str) -> int:
-        """Records the group name of measurement ``mid`` for errors()/rms(); returns mid."""
+        """Records the group of measurement ``mid`` for errors()/rms(); returns mid.
+
+        A group's error rows have one width (its noise's dimension); a
+        measurement of another width joins the group ``"<group>[<width>]"``.
+        """
+        dim = self._core.noise(int(mid)).dim
+        width = self._group_dims.setdefault(group, dim)
+        if width != dim:
+            group = f"{group}[{dim}]"
+            self._group_dims.setdefault(group, dim)
         self._meas_group[int(mid)] = group
         return int(mid)
+
+    @journalled
+    def add_factor(self, factor: _core.Factor, loss: LossSpec = None, name: str | None = None,
+                   group: str = "factor") -> int:
+        """Adds a C++ factor (one of the ``*_factor`` functions of ``boxplus._core``);
+        returns its measurement id.
+
+        This is the one way C++ measurements enter a problem: ``add_prior`` and the
+        factor functions of :mod:`boxplus.calib` and :mod:`boxplus.joint` validate their
+        input, build the factor and call this. ``group`` names the RMS group of
+        :meth:`errors`. A problem that a bare ``add_factor`` call changed cannot be
+        pickled (a factor holds a cost function, not its inputs): add factors inside a
+        function decorated with :func:`boxplus._journal.journalled`, as the domain
+        packages do.
+        """
+        what = f"measurement '{name}'" if name else f"{group} #{self.num_measurements}"
+        if not isinstance(factor, _core.Factor):
+            raise TypeError(f"{what}: add_factor takes a boxplus._core.Factor, got "
+                            f"{type(factor).__name__}")
+        self.check_ids(factor.variables, what)
+        mid = self._core.add_factor(factor, make_loss(loss, what), name or "")
+        return self._register(mid, group)
 
     def _group(self, f, name, vectorized, z_codec, m, slots, shared=()) -> Group:
         key = (f, vectorized, None if z_codec is None else z_codec.name, m,
@@ -197,6 +240,7 @@ class OptimizationProblem(CalibrationFactors):
         return g
 
     # ---- measurements ----------------------------------------------------------------
+    @journalled(by_reference=("z", "constants"))
     def add_measurement(
         self,
         z: Any,
@@ -240,7 +284,7 @@ class OptimizationProblem(CalibrationFactors):
         what = f"measurement '{name}'" if name else f"measurement #{self.num_measurements} ({fname})"
         if not callable(f):
             raise TypeError(f"{what}: f must be callable, got {type(f).__name__}")
-        ids = self._check_ids(ids, what)
+        ids = self.check_ids(ids, what)
         constants = tuple(constants)
         z_codec, z_amb = self._z_parts(z, what)
         m = z_codec.dof if z_codec is not None else z_amb.size
@@ -258,9 +302,9 @@ class OptimizationProblem(CalibrationFactors):
             raise TypeError(f"{what}: f returned a {type(y).__name__}, expected a {z_codec.name} like z")
         group = self._group(f, fname, False, z_codec, m, [self._codecs[v] for v in ids])
         mid = group.append([ids], [z_amb], [nm], [constants], lf, [name or ""])[0]
-        self._python_mids.add(mid)
         return self._register(mid, fname)
 
+    @journalled(by_reference=("Z", "constants"))
     def add_measurements(
         self,
         Z: Any,
@@ -311,7 +355,7 @@ class OptimizationProblem(CalibrationFactors):
             raise ValueError(f"{what}: ids must be an (N, K) integer array with N, K > 0, got "
                              f"shape {ids.shape}")
         n, K = ids.shape
-        rows = [self._check_ids(r, f"{what} (row {i})") for i, r in enumerate(ids.tolist())]
+        rows = [self.check_ids(r, f"{what} (row {i})") for i, r in enumerate(ids.tolist())]
         slots = [self._codecs[v] for v in rows[0]]
         for i, r in enumerate(rows):
             if [self._codecs[v] for v in r] != slots:
@@ -344,7 +388,6 @@ class OptimizationProblem(CalibrationFactors):
         group.keepalive.extend(shared)
         names = [f"{name}[{i}]" if name else "" for i in range(n)]
         mids = group.append(rows, list(Zarr), noises, constants, lf, names)
-        self._python_mids.update(mids)
         for mid in mids:
             self._register(mid, fname)
         return np.asarray(mids)
@@ -395,19 +438,65 @@ class OptimizationProblem(CalibrationFactors):
             raise ValueError(f"{what}: Z has non-finite entries")
         return z_codec, Zarr, m
 
+    # ---- generic C++ factors ---------------------------------------------------------
+    @journalled
     def add_prior(
         self, vid: int, z: Any, sigma: Any = None, covariance: Any = None,
         information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
-        name: str | None = None,
+        name: str | None = None, group: str = "prior",
     ) -> int:
-        """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2)."""
+        """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2,
+        compounds of them); ``group`` names its RMS group (:meth:`errors`)."""
         codec = self.codec(vid)
         what = f"measurement '{name}'" if name else f"prior on variable {vid}"
         if _codec_or_none(z) is not codec:
             raise TypeError(f"{what}: z must be a {codec.name}, got {type(z).__name__}")
         nm = noise_model(codec.dof, sigma, covariance, information, noise, what)
-        mid = self._core.add_prior(int(vid), codec.to_ambient(z), nm, name or "", make_loss(loss, what))
-        return self._register(mid, "prior")
+        f = _core.prior_factor(self._core, int(vid), codec.to_ambient(z), nm, what)
+        return self.add_factor(f, loss, name, group)
+
+    @journalled
+    def add_relative_pose(
+        self, a_from_b: SE3, world_from_a: int, world_from_b: int, sigma: Any = None,
+        covariance: Any = None, information: Any = None, noise: NoiseModel | None = None,
+        loss: LossSpec = None, name: str | None = None, group: str = "relative_pose",
+    ) -> int:
+        """A measured relative pose of two SE3 variables (factors/pose/relative_pose.h).
+
+        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), 6-dim [δp, δθ] (the compound
+        ⊟ of R³ × SO(3)); noise 6-dim in that order.
+        """
+        what = f"measurement '{name}'" if name else f"relative pose #{self.num_measurements}"
+        ids = self.check_ids([world_from_a, world_from_b], what)
+        if not isinstance(a_from_b, SE3):
+            raise TypeError(f"{what}: a_from_b must be an SE3, got {type(a_from_b).__name__}")
+        nm = noise_model(6, sigma, covariance, information, noise, what)
+        f = _core.relative_pose_factor(ids[0], ids[1], a_from_b.ambient, nm, what)
+        return self.add_factor(f, loss, name, group)
+
+    @journalled
+    def add_point(
+        self, z: Any, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
+        sigma: Any = None, covariance: Any = None, information: Any = None,
+        noise: NoiseModel | None = None, loss: LossSpec = None, name: str | None = None,
+        group: str = "point",
+    ) -> int:
+        """A 3-D point measured by a sensor on a rig (factors/pose/observed_point.h).
+
+        r = W (cam_from_rig · world_from_rig⁻¹ · p_in_world − z): ``p_in_world`` is a
+        constant 3-vector or the id of an Rn(3) variable (a landmark); noise 3-dim.
+        """
+        what = f"measurement '{name}'" if name else f"point #{self.num_measurements}"
+        landmark = _is_id(p_in_world)
+        ids = self.check_ids([world_from_rig, cam_from_rig] + ([p_in_world] if landmark else []), what)
+        for v in ids[:2]:
+            if self.codec(v).name != "SE3":
+                raise TypeError(f"{what}: variable {v} must be an SE3, got a {self.codec(v).name}")
+        constant = np.zeros(3) if landmark else _vector3(p_in_world, "p_in_world", what)
+        nm = noise_model(3, sigma, covariance, information, noise, what)
+        f = _core.point_factor(ids[0], ids[1], ids[2] if landmark else -1, _vector3(z, "z", what),
+                               nm, constant, what)
+        return self.add_factor(f, loss, name, group)
 
     def jacobian(self) -> dict[str, Any]:
         """Whitened residuals and their dense Jacobian in the tangent spaces of the
@@ -418,9 +507,13 @@ class OptimizationProblem(CalibrationFactors):
     def measurement_group(self, mid: int) -> str:
         return self._meas_group[int(mid)]
 
-    def builtin_measurements(self) -> list[int]:
-        """Ids of the C++ measurements (priors and built-in factors), in id order."""
-        return [mid for mid in sorted(self._meas_group) if mid not in self._python_mids]
+    def groups(self) -> dict[str, list[int]]:
+        """Measurement ids per group (a Python function's name or a C++ factor's
+        kind, e.g. 'prior', 'board[opencv5]'), in id order."""
+        out: dict[str, list[int]] = {}
+        for mid, g in sorted(self._meas_group.items()):
+            out.setdefault(g, []).append(mid)
+        return out
 
     # ---- solving ---------------------------------------------------------------------
     def solve(
@@ -490,7 +583,7 @@ class OptimizationProblem(CalibrationFactors):
         return self.joint_covariance([vid])
 
     def joint_covariance(self, ids: Sequence[int]) -> np.ndarray:
-        ids = self._check_ids(ids, "joint_covariance")
+        ids = self.check_ids(ids, "joint_covariance")
         for v in ids:
             self._check_determined(v)
         try:
@@ -502,28 +595,9 @@ class OptimizationProblem(CalibrationFactors):
             return self._determined_covariance(ids, e)
 
     def _determined_covariance(self, ids: list[int], error: Exception) -> np.ndarray:
-        """The joint covariance of ``ids`` when the Jacobian is rank-deficient
-        elsewhere: the block of (JᵀJ)⁺, which is the covariance of variables
-        the null space does not touch (:func:`boxplus.calib.report.determined_covariance`)."""
-        from boxplus.calib.report import determined_covariance  # calib imports this module
+        from boxplus.covariance import determined_block
 
-        jac = self.jacobian()
-        J = np.asarray(jac["jacobian"])
-        if J.shape[1] > 5000:  # a dense SVD beyond this takes minutes
-            raise error
-        cols: dict[int, list[int]] = {}
-        for vid, off in zip(jac["variables"], jac["column_offsets"]):
-            cols[int(vid)] = list(range(int(off), int(off) + self.codec(vid).dof))
-        cov, undetermined = determined_covariance(J)
-        free = sorted({self.variable_name(v) or str(v) for v, c in cols.items()
-                       if undetermined[c].any()})
-        bad = [self.variable_name(v) or str(v) for v in ids if undetermined[cols[v]].any()]
-        if bad:
-            raise ValueError(f"covariance of {', '.join(map(repr, bad))} is undefined: the "
-                             f"measurements do not determine {', '.join(map(repr, free))} (add "
-                             f"measurements or priors, or fix them)")
-        idx = [c for v in ids for c in cols[v]]
-        return cov[np.ix_(idx, idx)]
+        return determined_block(self, ids, error)
 
     def std(self, vid: int) -> np.ndarray:
         """Standard deviations of variable ``vid`` along its tangent directions."""
@@ -533,41 +607,35 @@ class OptimizationProblem(CalibrationFactors):
         """Whitened residual of measurement ``mid`` at the current values."""
         return self._core.residual(int(mid))
 
-    def _cpp_rows(self, mid: int, values: np.ndarray) -> np.ndarray:
-        """A C++ measurement's error or residual as rows of its noise's dimension."""
-        # the noise's dimension, cached: a measurement keeps its noise, and fetching
-        # the model for each call was most of the cost of rms() on large problems
-        dims = self.__dict__.setdefault("_noise_dims", {})
-        dim = dims.get(mid)
-        if dim is None:
-            dim = dims[mid] = self._core.noise(mid).dim
-        return values.reshape(-1, dim)
+    def _rows(self, mids: list[int], whitened: bool) -> np.ndarray:
+        """Errors (or residuals) of measurements of one group as rows of its width."""
+        width = self._group_dims[self._meas_group[mids[0]]]
+        return np.asarray(self._core.errors(mids, whitened)).reshape(-1, width)
+
+    def _by_group(self, whitened: bool) -> dict[str, np.ndarray]:
+        return {g: self._rows(mids, whitened) for g, mids in self.groups().items()}
 
     def errors(self) -> dict[str, np.ndarray]:
         """Unwhitened errors f(Y) ⊟ z of every measurement, per group, in the
-        measurements' own units (rows: one per measured vector or point)."""
-        out: dict[str, list[np.ndarray]] = {}
-        for g in self._groups.values():
-            if g.meas_ids:
-                out.setdefault(g.name, []).append(g.errors(g.current_values()))
-        for mid in self.builtin_measurements():
-            out.setdefault(self._meas_group[mid], []).append(self.measurement_errors(mid))
-        return {k: np.concatenate(v) for k, v in out.items()}
+        measurements' own units (rows: one per measured vector or point; a group is
+        a Python function's name or a C++ factor's kind, e.g. 'prior', 'board[opencv5]')."""
+        return self._by_group(whitened=False)
 
-    def measurement_errors(self, mid: int) -> np.ndarray:
-        """Unwhitened errors of one C++ measurement (rows: one per point/vector)."""
-        return self._cpp_rows(int(mid), self._core.error(int(mid)))
+    def measurement_errors(self, mids: int | Sequence[int]) -> np.ndarray:
+        """Unwhitened errors of one measurement or of several of one group, as rows
+        (one per point/vector), all measurements evaluated once."""
+        ids = [int(mids)] if isinstance(mids, (int, np.integer)) else [int(m) for m in mids]
+        for m in ids:
+            if m not in self._meas_group:
+                raise IndexError(f"unknown measurement id {m} (the problem has {self.num_measurements})")
+        width = {self._group_dims[self._meas_group[m]] for m in ids}
+        if len(width) > 1:
+            raise ValueError(f"measurement_errors: measurements of different widths {sorted(width)}")
+        return self._rows(ids, whitened=False)
 
     def residuals(self) -> dict[str, np.ndarray]:
-        """Whitened residuals of every measurement, grouped by function name (C++
-        measurements: by their kind, e.g. 'prior')."""
-        out: dict[str, list[np.ndarray]] = {}
-        for g in self._groups.values():
-            if g.meas_ids:
-                out.setdefault(g.name, []).append(g.whitened(g.errors(g.current_values())))
-        for mid in self.builtin_measurements():
-            out.setdefault(self._meas_group[mid], []).append(self._cpp_rows(mid, self._core.residual(mid)))
-        return {k: np.concatenate(v) for k, v in out.items()}
+        """Whitened residuals of every measurement, grouped as :meth:`errors`."""
+        return self._by_group(whitened=True)
 
     def rms(self, whitened: bool = False) -> dict[str, float]:
         """RMS error per measurement group: sqrt(mean over rows of ‖e‖²), in the
@@ -582,14 +650,26 @@ class OptimizationProblem(CalibrationFactors):
     # ---- pickling --------------------------------------------------------------------
     def __getstate__(self) -> dict[str, Any]:
         """The problem's description: its journalled building calls, values and fixed
-        flags (:mod:`boxplus._description`); measurement functions by reference."""
-        return _description.state_of(self)
+        flags (:mod:`boxplus._journal`); functions by reference."""
+        return _journal.state_of(self)
 
     def __setstate__(self, state: dict[str, Any]) -> None:
-        """Rebuilds the problem by replaying its description on a new C++ problem."""
+        """Rebuilds the problem by replaying its journal on a new C++ problem."""
         OptimizationProblem.__init__(self)
-        _description.rebuild(self, state)
+        _journal.rebuild(self, state)
+
+    def copy(self) -> OptimizationProblem:
+        """A new problem built by the same calls, at the current values (same ids)."""
+        new = OptimizationProblem.__new__(type(self))
+        new.__setstate__(self.__getstate__())
+        return new
 
 
-# Pickling: the calls that build a problem are journalled (boxplus._description).
-_description.journal_calls(OptimizationProblem)
+def _vector3(value: Any, keyword: str, what: str) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{what}: {keyword} must be 3 numbers, got {type(value).__name__}") from None
+    if a.size != 3 or not np.all(np.isfinite(a)):
+        raise ValueError(f"{what}: {keyword} must be 3 finite numbers, got shape {a.shape}")
+    return a.reshape(3)

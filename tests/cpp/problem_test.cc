@@ -172,3 +172,33 @@ TEST(Problem, IterationCallbackCanStopTheSolve) {
 
 }  // namespace
 }  // namespace boxplus
+
+namespace boxplus {
+namespace {
+
+// Errors() concatenates the errors (or residuals) of the measurements asked for,
+// in the order asked, each un-whitened by its own NoiseModel, and runs the
+// evaluation hooks once for all of them (Error() runs them once per call).
+TEST(Problem, ErrorsOfSeveralMeasurementsRunTheHooksOnce) {
+  Problem p;
+  const Eigen::Vector2d start(1.0, 2.0);
+  const int x = p.AddVariable(MakeManifold("Rn", 2), start.data(), "x");
+  const NoiseModel a = NoiseModel::Sigmas(Eigen::Vector2d(0.5, 2.0));
+  const NoiseModel b = NoiseModel::Covariance((Eigen::Matrix2d() << 4, 1, 1, 2).finished());
+  const int ma = p.AddMeasurement(MakePrior(p.manifold(x), Eigen::Vector2d(0, 0), a, "a"), {x}, a);
+  const int mb = p.AddMeasurement(MakePrior(p.manifold(x), Eigen::Vector2d(3, 3), b, "b"), {x}, b);
+  int hook_calls = 0;
+  p.AddEvaluationHook([&](bool, bool) { ++hook_calls; });
+  const Eigen::VectorXd e = p.Errors({mb, ma});
+  EXPECT_EQ(hook_calls, 1);
+  ASSERT_EQ(e.size(), 4);
+  EXPECT_NEAR((e.head<2>() - Eigen::Vector2d(-2, -1)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((e.tail<2>() - Eigen::Vector2d(1, 2)).norm(), 0.0, 1e-12);
+  const Eigen::VectorXd r = p.Errors({ma}, /*whitened=*/true);
+  EXPECT_NEAR((r - Eigen::Vector2d(2, 1)).norm(), 0.0, 1e-12);
+  EXPECT_THROW(p.Errors({ma, 7}), IndexError);
+  EXPECT_EQ(p.Errors({}).size(), 0);
+}
+
+}  // namespace
+}  // namespace boxplus

@@ -127,11 +127,11 @@ def test_add_measurements_batches(Z, ids, cov, constants):
 def test_low_level_problem(call, a, b):
     q = bp.Problem()
     x = q.add_variable(bp.SO3.manifold(), bp.SO3().ambient, "x")
-    q.add_prior(x, bp.SO3().ambient, bp.NoiseModel.unit(3))
+    q.add_factor(bp._core.prior_factor(q, x, bp.SO3().ambient, bp.NoiseModel.unit(3)))
     calls = {
         "add_variable": lambda: q.add_variable(bp.make_manifold("Rn", 2), a, "v"),
         "set_value": lambda: q.set_value(b if isinstance(b, int) else x, a),
-        "add_prior": lambda: q.add_prior(x, a, bp.NoiseModel.unit(3)),
+        "add_prior": lambda: q.add_factor(bp._core.prior_factor(q, x, a, bp.NoiseModel.unit(3))),
         "value": lambda: q.value(a),
         "covariance": lambda: q.covariance(a),
         "residual": lambda: q.residual(a),

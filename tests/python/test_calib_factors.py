@@ -4,6 +4,7 @@ independent numpy references, and recovery of known parameters by the solver."""
 import boxplus as bp
 import numpy as np
 import pytest
+from boxplus.calib import add_board, add_dh_marker, add_disparity, add_projection
 
 
 def rot(axis, angle):
@@ -71,7 +72,7 @@ def test_disparity_residual_matches_the_model_and_a_b_are_recovered():
             p_in_world = np.r_[p, 0.0]
             Zdepth = o[xc].fromlocal(world_from_rig.tolocal(p_in_world))[2]
             d = a / Zdepth + b
-            mids.append(o.add_disparity(d, xw, xc, ab, p_in_world, sigma=0.5))
+            mids.append(add_disparity(o, d, xw, xc, ab, p_in_world, sigma=0.5))
             expected.append((300.0 / Zdepth + 100.0 - d) / 0.5)
     assert np.allclose([o.residual(m)[0] for m in mids], expected)
     o.solve(function_tolerance=1e-15)
@@ -117,7 +118,7 @@ def test_dh_marker_residual_matches_numpy_forward_kinematics(arm):
     q = np.array([0.3, -0.7, 1.1])
     p_base = (dh_chain(dh, q) @ np.r_[p_hand, 1])[:3]
     uv = pinhole_opencv(k, base_from_rig.tolocal(p_base))
-    mid = o.add_dh_marker(uv + [1.0, -2.0], ki, xb, ph, xc, dhi, q, sigma=0.5)
+    mid = add_dh_marker(o, uv + [1.0, -2.0], ki, xb, ph, xc, dhi, q, sigma=0.5)
     assert np.allclose(o.residual(mid), [-2.0, 4.0], atol=1e-9)
 
 
@@ -140,7 +141,7 @@ def test_dh_parameters_are_recovered_from_many_arm_poses(arm):
         p_in_cam = base_from_rig.tolocal((dh_chain(dh, q) @ np.r_[p_hand, 1])[:3])
         if p_in_cam[2] < 0.2:
             continue
-        o.add_dh_marker(pinhole_opencv(k, p_in_cam), ki, xb, ph, xc, dhi, q, sigma=0.3)
+        add_dh_marker(o, pinhole_opencv(k, p_in_cam), ki, xb, ph, xc, dhi, q, sigma=0.3)
         n_used += 1
     assert n_used > 20
     r = o.solve(function_tolerance=1e-15, parameter_tolerance=1e-15, max_iterations=200)
@@ -167,7 +168,7 @@ def test_noise_keywords_give_one_model_and_errors_are_in_pixels():
     k = o.add_random_var(bp.Rn(TRUE_K), fixed=True)
     pose = o.add_random_var(T, fixed=True)
     ident = o.add_random_var(bp.SE3(), fixed=True)
-    boards = [o.add_board(z, k, pose, ident, p, **f) for f in forms]
+    boards = [add_board(o, z, k, pose, ident, p, **f) for f in forms]
     # Any W with WᵀW = Σ⁻¹ whitens: the residuals differ, their norms per corner do not.
     for m in boards[1:]:
         assert np.allclose(np.linalg.norm(o.residual(m).reshape(-1, 2), axis=1),
@@ -176,12 +177,12 @@ def test_noise_keywords_give_one_model_and_errors_are_in_pixels():
     assert np.allclose(o.residual(boards[0]).reshape(-1, 2), np.linalg.solve(L, np.tile([-1.0, 2.0], (len(p), 1)).T).T)
     for m in boards:
         assert np.allclose(o.measurement_errors(m), [-1.0, 2.0])
-    mid = o.add_projection(z[0], k, pose, ident, p[0], sigma=[0.5, 0.25], model="opencv5")
+    mid = add_projection(o, z[0], k, pose, ident, p[0], sigma=[0.5, 0.25], model="opencv5")
     assert np.allclose(o.residual(mid), [-2.0, 8.0])
     rms = o.rms()
     assert np.isclose(rms["projection[opencv5]"], np.sqrt(5.0))
     assert np.isclose(rms["board[opencv5]"], np.sqrt(5.0))
     with pytest.raises(ValueError, match="give one of sigma, covariance"):
-        o.add_board(z, k, pose, ident, p, sigma=0.5, covariance=S)
+        add_board(o, z, k, pose, ident, p, sigma=0.5, covariance=S)
     with pytest.raises(ValueError, match="noise of dimension 3"):
-        o.add_disparity(1.0, pose, ident, k, p[0], noise=bp.NoiseModel.unit(3))
+        add_disparity(o, 1.0, pose, ident, k, p[0], noise=bp.NoiseModel.unit(3))

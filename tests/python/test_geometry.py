@@ -5,6 +5,7 @@ import boxplus as bp
 import numpy as np
 import pytest
 from boxplus import geometry as g
+from boxplus.calib import add_projection
 from scipy.spatial.transform import Rotation
 
 SEEDS = range(5)
@@ -175,7 +176,7 @@ def test_project_matches_the_cpp_factor(model):
     pose = o.add_random_var(bp.SE3())
     cam = o.add_random_var(bp.SE3())
     for p in P:
-        o.add_projection(np.zeros(2), kid, pose, cam, p, model=model)
+        add_projection(o, np.zeros(2), kid, pose, cam, p, model=model)
     (r,) = o.residuals().values()
     np.testing.assert_allclose(g.project(k, P, model), r, atol=1e-9)
 

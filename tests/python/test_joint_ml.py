@@ -12,6 +12,7 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 import pytest
+from boxplus.calib import add_dh_marker
 from boxplus.joint import Plane
 from boxplus.joint.synthetic import make_rig
 
@@ -94,9 +95,9 @@ def _direct(ex, data, split, rig):
     model, s_px = data.model, data.sigma_px
     for b in (data.boards[i] for i in split["boards"]):
         for j, cid in enumerate(corners):
-            o.add_dh_marker(b.z1[j], ids["cam1"], ids["pose:stereo"], cid, eye, ids["arm.dh"], b.joints,
+            add_dh_marker(o, b.z1[j], ids["cam1"], ids["pose:stereo"], cid, eye, ids["arm.dh"], b.joints,
                             flange_from_hand=data.end_from_board, sigma=s_px, model=model)
-            o.add_dh_marker(b.z2[j], ids["cam2"], ids["pose:stereo"], cid, ids["stereo.cam2_from_cam1"],
+            add_dh_marker(o, b.z2[j], ids["cam2"], ids["pose:stereo"], cid, ids["stereo.cam2_from_cam1"],
                             ids["arm.dh"], b.joints, flange_from_hand=data.end_from_board, sigma=s_px, model=model)
 
     def stripe_on_board(k, sheet, L, dh, uv, Q):

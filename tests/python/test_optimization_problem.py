@@ -7,6 +7,7 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 import pytest
+from boxplus.calib import add_board, add_projection
 from conftest import POINTS, delta_for
 from hypothesis import given
 from scipy.spatial.transform import Rotation
@@ -164,7 +165,7 @@ def _calibration(form, n_images=5):
             o.add_measurements(p_img, project_points, ids, constants=(obj,))
         else:
             for j in range(len(obj)):
-                o.add_projection(p_img[j], iid, cid, ident, obj[j], model="simple_radial")
+                add_projection(o, p_img[j], iid, cid, ident, obj[j], model="simple_radial")
     r = o.solve(function_tolerance=1e-14, parameter_tolerance=1e-14)
     assert r.usable, r
     return o, iid, r
@@ -336,9 +337,9 @@ def test_rms_of_every_group_is_in_the_measurements_units():
     k = p.add_random_var(bp.Rn([500.0, 500.0, 320.0, 240.0]), fixed=True, name="k")
     world_from_rig = p.add_random_var(bp.SE3(), fixed=True)
     cam_from_rig = p.add_random_var(bp.SE3(), fixed=True)
-    p.add_projection([323.0, 244.0], k, world_from_rig, cam_from_rig, [0.0, 0.0, 5.0], sigma=2.0,
+    add_projection(p, [323.0, 244.0], k, world_from_rig, cam_from_rig, [0.0, 0.0, 5.0], sigma=2.0,
                      model="pinhole")
-    p.add_board(np.array([[320.0, 240.0], [326.0, 248.0]]), k, world_from_rig, cam_from_rig,
+    add_board(p, np.array([[320.0, 240.0], [326.0, 248.0]]), k, world_from_rig, cam_from_rig,
                 np.array([[0.0, 0.0, 5.0], [0.0, 0.0, 5.0]]), covariance=np.diag([4.0, 9.0]),
                 model="pinhole")
     x = p.add_random_var(bp.Rn([1.0]))
@@ -396,3 +397,36 @@ def test_codec_and_labels_are_public():
     X = np.array([[1.0, -30.0, 0.01], [0.0, 2.0, -5.0]])
     assert np.allclose(bp.codec_of(bp.Rn(3)).tangent_scale(X), np.maximum(1.0, np.abs(X)))
     assert np.allclose(bp.codec_of(bp.SO3()).tangent_scale(np.tile(bp.SO3().ambient, (2, 1))), 1.0)
+
+
+def test_a_python_measurement_keeps_its_noise_in_cpp_and_errors_take_one_path():
+    """The NoiseModel of a Python measurement lives in C++ with it: the problem's noise
+    is the one given, the residual is W e, and errors() un-whitens it on the path of
+    every C++ factor, to e = f(Y) ⊟ z."""
+    p = bp.OptimizationProblem()
+    R = p.add_random_var(bp.SO3.exp([0.3, -0.2, 0.1]))
+    S = np.array([[0.04, 0.01, 0.0], [0.01, 0.09, 0.0], [0.0, 0.0, 0.01]])
+    z = bp.SO3.exp([0.1, 0.2, 0.3])
+    one = p.add_measurement(z, lambda r: r, [R], covariance=S, name="single")
+    many = p.add_measurements([z, z], lambda r: r, [[R], [R]], covariance=S)
+    e = p[R] - z
+    W = np.linalg.inv(np.linalg.cholesky(S))
+    for mid in [one, *many]:
+        assert np.allclose(p._core.noise(mid).covariance_matrix, S)
+        assert np.allclose(p.residual(mid), W @ e, atol=1e-12)
+        assert np.allclose(p.measurement_errors(mid), e, atol=1e-12)
+    assert np.allclose(p.errors()["<lambda>"], np.tile(e, (3, 1)), atol=1e-12)
+    assert np.allclose(p.residuals()["<lambda>"], np.tile(W @ e, (3, 1)), atol=1e-12)
+
+
+def test_a_group_of_two_widths_splits_by_width():
+    """errors() stacks a group's rows: a prior on an Rn(2) and one on an SE3 (6 wide)
+    share the group name 'prior' and are reported as 'prior' and 'prior[6]'."""
+    p = bp.OptimizationProblem()
+    x = p.add_random_var(bp.Rn([1.0, 2.0]))
+    T = p.add_random_var(bp.SE3())
+    p.add_prior(x, bp.Rn([0.0, 0.0]))
+    p.add_prior(T, bp.SE3(t=[3.0, 4.0, 0.0]))
+    rms = p.rms()
+    assert rms["prior"] == pytest.approx(np.sqrt(5.0)) and rms["prior[6]"] == pytest.approx(5.0)
+    assert p.groups() == {"prior": [0], "prior[6]": [1]}

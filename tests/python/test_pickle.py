@@ -8,6 +8,8 @@ import pickle
 import boxplus as bp
 import numpy as np
 import pytest
+from boxplus._journal import journalled
+from boxplus.calib import add_board, add_gravity
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 
 
@@ -48,8 +50,8 @@ def _every_kind():
         pose = o.add_random_var(view + rng.normal(0, 0.01, 6), name=f"world_from_cam_{i}")
         z, vis = observe(TRUE_K, view, pts, 0.5, rng)
         z_buf[: len(z)] = z  # one buffer refilled for every view: the journal copies it
-        o.add_board(z_buf[: len(z)], k, pose, ident, pts[vis], sigma=0.5, group="cam")
-        o.add_gravity(view.rot.R.T @ [0, 0, -9.81], pose, ident, None, sigma=0.05)
+        add_board(o, z_buf[: len(z)], k, pose, ident, pts[vis], sigma=0.5, group="cam")
+        add_gravity(o, view.rot.R.T @ [0, 0, -9.81], pose, ident, None, sigma=0.05)
     o.fix(fixed)
     o.unfix(fixed)
     o.fix(fixed)
@@ -130,8 +132,35 @@ def test_cloudpickle_takes_local_functions_by_value():
 def test_changes_made_around_the_public_calls_are_refused():
     o = bp.OptimizationProblem()
     x = o.add_random_var(bp.Rn([1.0]))
-    o._core.add_prior(x, np.array([0.0]), bp.NoiseModel.isotropic(1, 1.0), "", None)
+    o._core.add_factor(bp._core.prior_factor(o._core, x, np.array([0.0]), bp.NoiseModel.isotropic(1, 1.0)))
     with pytest.raises(pickle.PicklingError, match="added through _core directly"):
+        pickle.dumps(o)
+
+
+@journalled
+def add_offset_prior(o, vid, z, sigma):
+    """A user's own factor function: journalled by its decorator, nowhere else."""
+    f = bp._core.prior_factor(o._core, vid, np.atleast_1d(np.asarray(z, float)),
+                              bp.NoiseModel.isotropic(1, sigma))
+    return o.add_factor(f, group="offset")
+
+
+def test_a_journalled_factor_function_anywhere_pickles_and_copies():
+    o = bp.OptimizationProblem()
+    x = o.add_random_var(bp.Rn([1.0]))
+    add_offset_prior(o, x, 3.0, 0.5)
+    o.add_prior(x, bp.Rn([2.0]), sigma=1.0)
+    for c in (pickle.loads(pickle.dumps(o)), o.copy(), copy.deepcopy(o)):
+        assert c.num_measurements == 2 and c.groups() == o.groups()
+        assert c.solve().final_cost == o.copy().solve().final_cost
+    assert o._journal[1][0] is add_offset_prior  # the function itself, not a name in a list
+
+
+def test_a_bare_cpp_factor_is_refused_with_advice():
+    o = bp.OptimizationProblem()
+    x = o.add_random_var(bp.Rn([1.0]))
+    o.add_factor(bp._core.prior_factor(o._core, x, np.array([0.0]), bp.NoiseModel.unit(1)))
+    with pytest.raises(pickle.PicklingError, match="journalled"):
         pickle.dumps(o)
 
 

@@ -13,7 +13,7 @@ def test_symmetric_rotation_average_is_the_centre():
     for _ in range(10):
         d = rng.normal(0, 0.3, 3)
         for s in (1, -1):
-            p.add_prior(x, (truth + s * d).ambient, bp.NoiseModel.unit(3))
+            p.add_factor(bp._core.prior_factor(p, x, (truth + s * d).ambient, bp.NoiseModel.unit(3)))
     s = p.solve(function_tolerance=1e-16, gradient_tolerance=1e-16, parameter_tolerance=1e-16)
     assert s.usable and s.termination == "convergence"
     assert np.linalg.norm(bp.SO3.from_ambient(p.value(x)) - truth) < 1e-7
@@ -30,7 +30,7 @@ def test_weighted_se3_mean_matches_closed_form_and_covariance():
         z = truth + np.concatenate([rng.normal(0, 0.5, 3), rng.normal(0, 0.2, 3)])
         zs.append(z)
         ws.append(1 / sigma**2)
-        p.add_prior(x, z.ambient, bp.NoiseModel.isotropic(6, sigma))
+        p.add_factor(bp._core.prior_factor(p, x, z.ambient, bp.NoiseModel.isotropic(6, sigma)))
     p.solve(function_tolerance=1e-16, gradient_tolerance=1e-16, parameter_tolerance=1e-16)
     est = bp.SE3.from_ambient(p.value(x))
     ws = np.array(ws)
@@ -48,7 +48,7 @@ def test_bad_input_names_the_culprit():
     with pytest.raises(IndexError, match="unknown variable id 5"):
         p.value(5)
     with pytest.raises(ValueError, match="'gyro'"):
-        p.add_prior(x, np.zeros(3), bp.NoiseModel.unit(3), name="gyro")
+        p.add_factor(bp._core.prior_factor(p, x, np.zeros(3), bp.NoiseModel.unit(3), "prior 'gyro'"))
     with pytest.raises(ValueError, match="initial value has 3 entries"):
         p.add_variable(bp.SO3.manifold(), np.zeros(3), "R2")
     with pytest.raises(ValueError, match="non-finite"):
@@ -60,7 +60,7 @@ def test_bad_input_names_the_culprit():
 def test_callback_can_stop_and_errors_propagate():
     p = bp.Problem()
     x = p.add_variable(bp.SO3.manifold(), bp.SO3().ambient)
-    p.add_prior(x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, bp.NoiseModel.unit(3))
+    p.add_factor(bp._core.prior_factor(p, x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, bp.NoiseModel.unit(3)))
     seen = []
     s = p.solve(callback=lambda info: seen.append(info.cost) or False)
     assert s.termination == "interrupted" and s.usable and len(seen) == 1

@@ -141,7 +141,7 @@ def test_verbose_prints_the_cpp_progress_format_through_python_print():
 def test_low_level_solve_callback_must_return_none_or_a_bool():
     q = bp.Problem()
     x = q.add_variable(bp.SO3.manifold(), bp.SO3().ambient)
-    q.add_prior(x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, bp.NoiseModel.unit(3))
+    q.add_factor(bp._core.prior_factor(q, x, bp.SO3.exp([2.0, 0.5, -0.3]).ambient, bp.NoiseModel.unit(3)))
     for bad in ["stop", [], 1]:
         with pytest.raises(TypeError, match="callback must return None, True or False"):
             q.solve(callback=lambda info, bad=bad: bad)

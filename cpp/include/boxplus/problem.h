@@ -126,6 +126,10 @@ class Problem {
   Eigen::VectorXd Residual(int measurement_id);
   // Its error e = W⁻¹ r in the measurement's own units (pixels, metres...).
   Eigen::VectorXd Error(int measurement_id);
+  // The errors (or, `whitened`, the residuals) of several measurements,
+  // concatenated in the order given; the evaluation hooks run once for all of
+  // them (Error() per measurement would run them once each).
+  Eigen::VectorXd Errors(const std::vector<int>& measurement_ids, bool whitened = false);
   // ½ Σ ρ(‖r‖²) at the current values.
   double Cost();
 

@@ -5,27 +5,24 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
-#include "../manifold_handle.h"
+#include "../factor.h"
 #include "boxplus/factors/depth/disparity.h"
-#include "boxplus/problem.h"
 
 namespace py = pybind11;
 
 namespace boxplus::python {
 
 void RegisterDepthFactors(py::module_& m) {
-  py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
-  problem.def(
-      "add_disparity",
-      [](Problem& p, int world_from_rig, int cam_from_rig, int disparity_params, double d,
-         const NoiseModel& noise, const Eigen::Vector3d& p_in_world, const std::string& name,
-         const std::optional<LossHandle>& loss) {
-        return p.AddMeasurement(MakeDisparityFactor(d, noise, p_in_world),
-                                {world_from_rig, cam_from_rig, disparity_params}, noise,
-                                loss ? loss->loss : nullptr, name);
+  m.def(
+      "disparity_factor",
+      [](int world_from_rig, int cam_from_rig, int disparity_params, double d,
+         const NoiseModel& noise, const Eigen::Vector3d& p_in_world) {
+        return Factor{MakeDisparityFactor(d, noise, p_in_world),
+                      {world_from_rig, cam_from_rig, disparity_params},
+                      noise};
       },
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("disparity_params"), py::arg("d"),
-      py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = py::none(),
+      py::arg("noise"), py::arg("p_in_world"),
       "Kinect-style disparity d = a / Z + b of a board point, noise 1-dim; see "
       "factors/depth/disparity.h.");
 }

@@ -5,9 +5,8 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
-#include "../manifold_handle.h"
+#include "../factor.h"
 #include "boxplus/factors/imu/gravity.h"
-#include "boxplus/problem.h"
 
 namespace py = pybind11;
 
@@ -17,20 +16,18 @@ void RegisterImuFactors(py::module_& m) {
   m.def("gravity_model_size", &GravityModelSize, py::arg("model"),
         "Size of the accelerometer block of a gravity model (rotation 0, scale 1, scale_bias 4, "
         "axis_scale_bias 6, axis_scale_bias_misalignment 9).");
-  py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
-  problem.def(
-      "add_gravity",
-      [](Problem& p, const std::string& model, int world_from_rig, int imu_from_rig, int accel,
+  m.def(
+      "gravity_factor",
+      [](const std::string& model, int world_from_rig, int imu_from_rig, int accel,
          const Eigen::Vector3d& z, const NoiseModel& noise, const Eigen::Vector3d& g_in_world,
-         const std::string& name, const std::optional<LossHandle>& loss, int imu_size) {
+         int imu_size) {
         auto cost = MakeGravityFactor(model, z, noise, g_in_world, imu_size);
         std::vector<int> ids = {world_from_rig, imu_from_rig};
         if (GravityModelSize(model) > 0) ids.push_back(accel);
-        return p.AddMeasurement(cost, ids, noise, loss ? loss->loss : nullptr, name);
+        return Factor{cost, ids, noise};
       },
       py::arg("model"), py::arg("world_from_rig"), py::arg("imu_from_rig"), py::arg("accel"),
-      py::arg("z"), py::arg("noise"), py::arg("g_in_world"), py::arg("name") = "",
-      py::arg("loss") = py::none(), py::arg("imu_size") = 7,
+      py::arg("z"), py::arg("noise"), py::arg("g_in_world"), py::arg("imu_size") = 7,
       "Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); "
       "accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see "
       "factors/imu/gravity.h.");

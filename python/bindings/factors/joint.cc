@@ -1,16 +1,15 @@
 // Binding of the joint-calibration terms (cpp/include/boxplus/factors/joint/terms.h):
-// Problem.add_joint_term(spec, noise, name, loss). The spec is a nested dict
-// naming variables by id; the binding maps each distinct variable to one
-// parameter block (a variable used twice, e.g. the dh table of a point and of
-// its plane, is one block). boxplus.joint builds these dicts; errors from bad
-// dicts are ValueError/KeyError naming the measurement.
+// joint_factor(problem, spec, noise, what) -> Factor for Problem.add_factor. The spec is a nested
+// dict naming variables by id; the binding maps each distinct variable to one parameter block (a
+// variable used twice, e.g. the dh table of a point and of its plane, is one block). boxplus.joint
+// builds these dicts; errors from bad dicts are ValueError/KeyError naming the measurement.
 #include <map>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
-#include "../manifold_handle.h"
+#include "../factor.h"
 #include "boxplus/errors.h"
 #include "boxplus/factors/joint/terms.h"
 #include "boxplus/problem.h"
@@ -108,13 +107,9 @@ joint::SurfaceSpec ParseSurface(const py::dict& d, Blocks& b) {
 }  // namespace
 
 void RegisterJointFactors(py::module_& m) {
-  py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
-  problem.def(
-      "add_joint_term",
-      [](Problem& p, const py::dict& spec, const NoiseModel& noise, const std::string& name,
-         const std::optional<LossHandle>& loss) {
-        const std::string what =
-            name.empty() ? std::string("joint term") : "measurement '" + name + "'";
+  m.def(
+      "joint_factor",
+      [](const Problem& p, const py::dict& spec, const NoiseModel& noise, const std::string& what) {
         Blocks b{p, what, {}, {}, {}};
         joint::TermSpec t;
         t.kind = static_cast<joint::TermKind>(Choice(
@@ -134,10 +129,9 @@ void RegisterJointFactors(py::module_& m) {
         t.z = Get<Eigen::VectorXd>(spec, "z", Eigen::VectorXd());
         t.targets = Get<Eigen::MatrixXd>(spec, "targets", Eigen::MatrixXd());
         t.W = noise.sqrt_information();
-        auto cost = joint::MakeJointTerm(t, b.sizes, what);
-        return p.AddMeasurement(cost, b.ids, noise, loss ? loss->loss : nullptr, name);
+        return Factor{joint::MakeJointTerm(t, b.sizes, what), b.ids, noise};
       },
-      py::arg("spec"), py::arg("noise"), py::arg("name") = "", py::arg("loss") = py::none(),
+      py::arg("problem"), py::arg("spec"), py::arg("noise"), py::arg("what") = "joint term",
       "One term of joint calibration (link, distance, plane, line, line_anchor, projection, "
       "target_projection) "
       "over 3D-system points (constant, variable, DH chain, light sheet, beam); see "

@@ -6,9 +6,8 @@
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
-#include "../manifold_handle.h"
+#include "../factor.h"
 #include "boxplus/factors/kinematics/marker.h"
-#include "boxplus/problem.h"
 
 namespace py = pybind11;
 
@@ -16,37 +15,32 @@ namespace boxplus::python {
 
 void RegisterKinematicsFactors(py::module_& m) {
   using Pose = Eigen::Matrix<double, 7, 1>;
-  py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
-  problem.def(
-      "add_marker",
-      [](Problem& p, const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
+  m.def(
+      "marker_factor",
+      [](const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
          int cam_from_rig, const Eigen::Vector2d& z, const NoiseModel& noise,
-         const Pose& base_from_hand, const std::string& name,
-         const std::optional<LossHandle>& loss) {
-        return p.AddMeasurement(MakeKnownKinematicsMarkerFactor(model, z, noise, base_from_hand),
-                                {intrinsics, base_from_rig, p_in_hand, cam_from_rig}, noise,
-                                loss ? loss->loss : nullptr, name);
+         const Pose& base_from_hand) {
+        return Factor{MakeKnownKinematicsMarkerFactor(model, z, noise, base_from_hand),
+                      {intrinsics, base_from_rig, p_in_hand, cam_from_rig},
+                      noise};
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("base_from_rig"), py::arg("p_in_hand"),
       py::arg("cam_from_rig"), py::arg("z"), py::arg("noise"), py::arg("base_from_hand"),
-      py::arg("name") = "", py::arg("loss") = py::none(),
       "Marker on a hand, base_from_hand from forward kinematics (constant); see "
       "factors/kinematics/marker.h.");
-  problem.def(
-      "add_dh_marker",
-      [](Problem& p, const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
+  m.def(
+      "dh_marker_factor",
+      [](const std::string& model, int intrinsics, int base_from_rig, int p_in_hand,
          int cam_from_rig, int dh, const Eigen::Vector2d& z, const NoiseModel& noise,
-         const Eigen::VectorXd& joints, const Pose& base_from_chain, const Pose& flange_from_hand,
-         const std::string& name, const std::optional<LossHandle>& loss) {
-        return p.AddMeasurement(
+         const Eigen::VectorXd& joints, const Pose& base_from_chain, const Pose& flange_from_hand) {
+        return Factor{
             MakeDHMarkerFactor(model, z, noise, joints, base_from_chain, flange_from_hand),
-            {intrinsics, base_from_rig, p_in_hand, cam_from_rig, dh}, noise,
-            loss ? loss->loss : nullptr, name);
+            {intrinsics, base_from_rig, p_in_hand, cam_from_rig, dh},
+            noise};
       },
       py::arg("model"), py::arg("intrinsics"), py::arg("base_from_rig"), py::arg("p_in_hand"),
       py::arg("cam_from_rig"), py::arg("dh"), py::arg("z"), py::arg("noise"), py::arg("joints"),
-      py::arg("base_from_chain"), py::arg("flange_from_hand"), py::arg("name") = "",
-      py::arg("loss") = py::none(),
+      py::arg("base_from_chain"), py::arg("flange_from_hand"),
       "Marker on a hand through a DH chain with unknown parameters dh (n×4: θ offset, d, a, α) "
       "from joint readings; see factors/kinematics/marker.h.");
 }

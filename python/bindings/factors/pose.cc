@@ -1,14 +1,17 @@
-// Bindings of the pose-domain factors on boxplus._core.Problem: relative poses
-// (compound ⊟ of R³ × SO(3), factors/pose/relative_pose.h) and a 3-D point seen
-// by a sensor on a rig (factors/pose/observed_point.h). Frames as b_from_a (MTKM's a2b); tangent
-// order [δp, δθ]. The noise is a boxplus.NoiseModel, registered with the measurement so that errors
-// are un-whitened in C++.
+// Bindings of the generic (pose-domain) factors, each a function returning a
+// Factor for Problem.add_factor: a prior on any built-in manifold
+// (factors/pose/prior.h), relative poses (compound ⊟ of R³ × SO(3),
+// factors/pose/relative_pose.h) and a 3-D point seen by a sensor on a rig
+// (factors/pose/observed_point.h). Frames as b_from_a (MTKM's a2b); tangent
+// order [δp, δθ]. The noise is a boxplus.NoiseModel, registered with the
+// measurement so that errors are un-whitened in C++.
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "../bindings.h"
-#include "../manifold_handle.h"
+#include "../factor.h"
 #include "boxplus/factors/pose/observed_point.h"
+#include "boxplus/factors/pose/prior.h"
 #include "boxplus/factors/pose/relative_pose.h"
 #include "boxplus/noise.h"
 #include "boxplus/problem.h"
@@ -20,10 +23,6 @@ namespace {
 
 using Pose = Eigen::Matrix<double, 7, 1>;
 
-std::shared_ptr<ceres::LossFunction> Loss(const std::optional<LossHandle>& loss) {
-  return loss ? loss->loss : nullptr;
-}
-
 void CheckDim(const NoiseModel& noise, int dim, const std::string& what) {
   BOXPLUS_CHECK(noise.dim() == dim, what, ": noise of dimension ", noise.dim(), ", expected ", dim);
 }
@@ -31,35 +30,43 @@ void CheckDim(const NoiseModel& noise, int dim, const std::string& what) {
 }  // namespace
 
 void RegisterPoseFactors(py::module_& m) {
-  py::class_<Problem> problem = py::reinterpret_borrow<py::class_<Problem>>(m.attr("Problem"));
-  problem.def(
-      "add_relative_pose",
-      [](Problem& p, int world_from_a, int world_from_b, const Pose& a_from_b,
-         const NoiseModel& noise, const std::string& name, const std::optional<LossHandle>& loss) {
-        CheckDim(noise, 6, name.empty() ? "add_relative_pose" : name);
-        return p.AddMeasurement(MakeRelativePose3D(a_from_b, noise, PoseErrorConvention::kCompound),
-                                {world_from_a, world_from_b}, noise, Loss(loss), name);
+  m.def(
+      "prior_factor",
+      [](const Problem& p, int id, const Eigen::VectorXd& z, const NoiseModel& noise,
+         const std::string& what) {
+        return Factor{MakePrior(p.manifold(id), z, noise, what), {id}, noise};
+      },
+      py::arg("problem"), py::arg("id"), py::arg("z"), py::arg("noise"), py::arg("what") = "prior",
+      "r = W (x ⊟ z) on variable id of the problem (any built-in manifold); z in ambient "
+      "coordinates; see factors/pose/prior.h.");
+  m.def(
+      "relative_pose_factor",
+      [](int world_from_a, int world_from_b, const Pose& a_from_b, const NoiseModel& noise,
+         const std::string& what) {
+        CheckDim(noise, 6, what);
+        return Factor{MakeRelativePose3D(a_from_b, noise, PoseErrorConvention::kCompound),
+                      {world_from_a, world_from_b},
+                      noise};
       },
       py::arg("world_from_a"), py::arg("world_from_b"), py::arg("a_from_b"), py::arg("noise"),
-      py::arg("name") = "", py::arg("loss") = py::none(),
+      py::arg("what") = "relative pose",
       "r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; "
       "see factors/pose/relative_pose.h.");
-  problem.def(
-      "add_point",
-      [](Problem& p, int world_from_rig, int cam_from_rig, int p_in_world_id,
-         const Eigen::Vector3d& z, const NoiseModel& noise, const Eigen::Vector3d& p_in_world,
-         const std::string& name, const std::optional<LossHandle>& loss) {
-        CheckDim(noise, 3, name.empty() ? "add_point" : name);
+  m.def(
+      "point_factor",
+      [](int world_from_rig, int cam_from_rig, int p_in_world_id, const Eigen::Vector3d& z,
+         const NoiseModel& noise, const Eigen::Vector3d& p_in_world, const std::string& what) {
+        CheckDim(noise, 3, what);
         if (p_in_world_id >= 0) {
-          return p.AddMeasurement(MakeObservedLandmarkOnRig(z, noise),
-                                  {world_from_rig, cam_from_rig, p_in_world_id}, noise, Loss(loss),
-                                  name);
+          return Factor{MakeObservedLandmarkOnRig(z, noise),
+                        {world_from_rig, cam_from_rig, p_in_world_id},
+                        noise};
         }
-        return p.AddMeasurement(MakeObservedPointOnRig(z, noise, p_in_world),
-                                {world_from_rig, cam_from_rig}, noise, Loss(loss), name);
+        return Factor{
+            MakeObservedPointOnRig(z, noise, p_in_world), {world_from_rig, cam_from_rig}, noise};
       },
       py::arg("world_from_rig"), py::arg("cam_from_rig"), py::arg("p_in_world_id"), py::arg("z"),
-      py::arg("noise"), py::arg("p_in_world"), py::arg("name") = "", py::arg("loss") = py::none(),
+      py::arg("noise"), py::arg("p_in_world"), py::arg("what") = "point",
       "3-D point in the camera: r = W (cam_from_rig ∘ world_from_rig⁻¹ ∘ p_in_world − z); "
       "p_in_world_id < 0 uses the constant p_in_world; 3-dim noise; see "
       "factors/pose/observed_point.h.");

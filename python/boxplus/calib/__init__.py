@@ -16,14 +16,23 @@
 * :mod:`~boxplus.calib.plot` — reprojection errors, coverage, projection
   uncertainty and the rig in 3-D (matplotlib Figures, PNG).
 
-* :mod:`~boxplus.calib.factors` — the C++ sensor factors as methods of
-  :class:`boxplus.OptimizationProblem` (``add_projection``, ``add_board``,
-  ``add_marker``, ``add_dh_marker``, ``add_gravity``, ``add_relative_pose``,
-  ``add_point``, ``add_disparity``), mixed in by :class:`CalibrationFactors`.
+* :mod:`~boxplus.calib.factors` — the C++ sensor factors as functions of an
+  :class:`boxplus.OptimizationProblem` (``add_projection(o, ...)``,
+  ``add_board``, ``add_marker``, ``add_dh_marker``, ``add_gravity``,
+  ``add_disparity``); the generic ones (``add_prior``, ``add_relative_pose``,
+  ``add_point``) are methods of the problem.
 
 Frames are named ``b_from_a`` (maps a-coordinates to b), points ``p_in_b``.
 """
 
+from boxplus.calib.factors import (
+    add_board,
+    add_dh_marker,
+    add_disparity,
+    add_gravity,
+    add_marker,
+    add_projection,
+)
 from boxplus.calib.init import (
     CAMERA_LABELS,
     board_pose,
@@ -76,4 +85,5 @@ __all__ = [
     "Camera", "DroppedCorner", "calibrate_rig", "read_camchain", "read_camera_info",
     "read_opencv_yaml", "to_opencv", "write_camchain", "write_camera_info", "write_opencv_yaml",
     "Target", "coverage", "parse_target", "projection_sigma", "projection_uncertainty",
+    "add_board", "add_dh_marker", "add_disparity", "add_gravity", "add_marker", "add_projection",
 ]

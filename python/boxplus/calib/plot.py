@@ -44,11 +44,7 @@ def _finish(fig: Any, path: Any, title: str | None = None) -> Any:
 def _groups(o, mids: Mapping[str, Sequence[int]] | None) -> Mapping[str, Sequence[int]]:
     if mids is not None:
         return mids
-    groups: dict[str, list[int]] = {}
-    for mid in o.builtin_measurements():
-        if o.measurement_group(mid) != "prior":
-            groups.setdefault(o.measurement_group(mid), []).append(mid)
-    return groups
+    return {g: mids for g, mids in o.groups().items() if not g.startswith("prior")}
 
 
 def _rms(e: np.ndarray) -> float:

@@ -27,7 +27,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["CalibrationReport", "Parameter", "determined_covariance", "report"]
+from boxplus.covariance import determined_covariance, scaled_svd
+
+__all__ = ["CalibrationReport", "Parameter", "report"]
 
 
 @dataclass
@@ -101,48 +103,6 @@ def _display_values(o, vid: int) -> np.ndarray:
     return o.codec(vid).display(o.value(vid))
 
 
-def _scaled_svd(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(column norms, observed-column mask, s, Vt, indices of the observed columns)
-    of the column-scaled Jacobian J D⁻¹ = U S Vᵀ (unobserved = zero columns)."""
-    norms = np.linalg.norm(J, axis=0)
-    observed = norms > 0
-    idx = np.flatnonzero(observed)
-    if idx.size == 0:
-        return norms, observed, np.zeros(0), np.zeros((0, 0)), idx
-    _, s, Vt = np.linalg.svd(J[:, observed] / norms[observed], full_matrices=False)
-    return norms, observed, s, Vt, idx
-
-
-def determined_covariance(J: np.ndarray, rank_tol: float = 1e-9,
-                          null_tol: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
-    """(covariance, undetermined mask) over the columns of a whitened Jacobian J.
-
-    The directions the data does not determine are the right singular vectors
-    of J D⁻¹ with s < ``rank_tol``·s_max, plus the zero columns. A column with
-    an entry above ``null_tol`` in such a vector is undetermined (NaN rows,
-    ∞ on the diagonal). Every other column has zero weight in the null space,
-    so its block of the pseudo-inverse (JᵀJ)⁺ is its covariance whatever gauge
-    fixes the undetermined ones: determined parameters keep their σ when an
-    unrelated parameter (e.g. the translation of an IMU seen only through
-    gravity) is undetermined.
-    """
-    n = J.shape[1]
-    norms, observed, s, Vt, idx = _scaled_svd(J)
-    cov = np.full((n, n), np.nan)
-    undetermined = ~observed
-    if s.size:
-        good = s >= rank_tol * s[0]
-        null = Vt[~good]
-        if null.size:
-            undetermined[idx[np.any(np.abs(null) > null_tol, axis=0)]] = True
-        Cs = (Vt[good].T / s[good] ** 2) @ Vt[good]
-        cov[np.ix_(idx, idx)] = Cs / np.outer(norms[idx], norms[idx])
-    cov[undetermined, :] = np.nan
-    cov[:, undetermined] = np.nan
-    cov[undetermined, undetermined] = np.inf
-    return cov, undetermined
-
-
 def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1e-5,
            name_tol: float = 0.3) -> CalibrationReport:
     """Builds the report of a solved :class:`~boxplus.OptimizationProblem`.
@@ -165,7 +125,7 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
             columns.append((vid, t))
             names.append(f"{vname}.{lab}")
     n = J.shape[1]
-    norms, observed, s, Vt, idx = _scaled_svd(J)
+    norms, observed, s, Vt, idx = scaled_svd(J)
     undetermined: list[tuple[float, list[str]]] = []
     ill: list[tuple[float, list[str]]] = []
     if (~observed).any():

@@ -19,6 +19,7 @@ import numpy as np
 
 from boxplus import problem as _problem
 from boxplus._core import SolveSummary
+from boxplus.calib.factors import add_board
 from boxplus.calib.init import (
     CAMERA_LABELS,
     camera_matrix,
@@ -168,7 +169,7 @@ def _assemble(obs: Sequence[_Obs], cams: Sequence[str], models: dict[str, str],
     for ob in obs:
         view = views[ob.view]
         assert view is not None  # every observed view has a pose
-        cal.view_ids[ob.camera].append(o.add_board(
+        cal.view_ids[ob.camera].append(add_board(o,
             ob.z, ids[ob.camera], view, rig[ob.camera], ob.obj, sigma=sigma, covariance=covariance,
             model=models[ob.camera], group=ob.camera))
         cal.view_index[ob.camera].append(ob.view)

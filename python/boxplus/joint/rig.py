@@ -51,10 +51,11 @@ from typing import Any, Callable
 import numpy as np
 
 from boxplus import _core
+from boxplus._journal import journalled
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
 from boxplus.joint.geometry import dh_pose, plane_in, sheet_points, triangulate
 from boxplus.joint.restarts import RestartResult, solve_with_restarts
-from boxplus.losses import LossSpec, make_loss
+from boxplus.losses import LossSpec
 from boxplus.manifolds import S2, SE3, Rn
 from boxplus.noise import NoiseModel, noise_model
 from boxplus.problem import OptimizationProblem
@@ -275,7 +276,6 @@ class JointRig:
         self._data: dict[str, int] = {}        # system -> number of terms using its data
         self._readings: dict[tuple[str, Any], int] = {}
         self._reading_q: dict[tuple[str, Any], np.ndarray] = {}
-        self._ops: list[tuple] = []  # how the problem was built, replayed by factory()
         self._isotropic: dict[tuple[int, float], NoiseModel] = {}
 
     # ---- sensors and systems ---------------------------------------------------------
@@ -291,12 +291,11 @@ class JointRig:
         if name in self.ids:
             raise ValueError(f"variable '{name}' exists already")
         self.ids[name] = self.problem.add_random_var(value, fixed=fixed, name=name, labels=labels)
-        self._ops.append(("var", value, fixed, name, labels))
         return self.ids[name]
 
     def _prior(self, vid: int, z: Any, sigma: Any, name: str) -> None:
-        _add_prior(self.problem, vid, z, sigma, name)
-        self._ops.append(("prior", vid, z, sigma, name))
+        # its own RMS group: priors of different sizes cannot share one
+        self.problem.add_prior(vid, z, sigma=sigma, name=name, group=name.split("[")[0])
 
     def add_camera(self, name: str, intrinsics: Any, model: str = "simple_radial", fixed: bool = False,
                    prior_sigma: Any = None) -> int:
@@ -672,10 +671,7 @@ class JointRig:
             nm = self._isotropic[key]
         else:
             nm = noise_model(dim, sigma, covariance, information, noise, what)
-        lf = None if loss is None else make_loss(loss, what)
-        mid = _add_term(self.problem, spec, nm, name or "", lf, group, what)
-        self._ops.append(("term", spec, nm, name or "", lf, group, what))
-        return mid
+        return add_joint_term(self.problem, spec, nm, loss, name, group, what)
 
     # ---- values ----------------------------------------------------------------------
     def value(self, name: str) -> Any:
@@ -782,9 +778,9 @@ class JointRig:
 
     def factory(self) -> Callable[[], OptimizationProblem]:
         """A picklable callable building a fresh copy of the problem (same ids, current values,
-        the same fixed variables): what parallel restarts solve."""
-        fixed = tuple(v for v in range(self.problem.num_variables) if self.problem.is_fixed(v))
-        return functools.partial(_replay, tuple(self._ops), tuple(self.problem.X), fixed)
+        the same fixed variables): what parallel restarts solve. The copy is rebuilt from the
+        problem's journal (:meth:`OptimizationProblem.copy`)."""
+        return functools.partial(OptimizationProblem.copy, self.problem.copy())
 
     def solve(self, restarts: int = 0, seed: int | None = 0,
               perturbation: Callable[[Any], np.ndarray] | None = None,
@@ -808,39 +804,16 @@ class JointRig:
         return RigResult(rr.best_cost, rr.best.termination, dict(self.problem.rms().items()), rr)
 
 
-def _add_term(problem: OptimizationProblem, spec: dict, nm: NoiseModel, name: str, loss: Any,
-              group: str, what: str) -> int:
+@journalled
+def add_joint_term(problem: OptimizationProblem, spec: dict, noise: NoiseModel, loss: LossSpec,
+                   name: str | None, group: str, what: str) -> int:
+    """One C++ joint term (factors/joint/terms.h) described by ``spec``, whose variables
+    are named by id; journalled, so a rig's problem copies and pickles like any other."""
     try:
-        mid = problem._core.add_joint_term(spec, nm, name, loss)
+        factor = _core.joint_factor(problem._core, spec, noise, what)
     except (RuntimeError, ValueError, KeyError, TypeError) as e:
         raise ValueError(f"{what}: {e}") from None
-    return problem._register(mid, group)
-
-
-def _add_prior(problem: OptimizationProblem, vid: int, z: Any, sigma: Any, name: str) -> int:
-    """A C++ prior r = W (x ⊟ z) reported in its own group (priors of different sizes
-    cannot share one RMS group)."""
-    codec = problem.codec(vid)
-    nm = noise_model(codec.dof, sigma, None, None, None, f"prior '{name}'")
-    mid = problem._core.add_prior(int(vid), codec.to_ambient(z), nm, name, None)
-    return problem._register(mid, name.split("[")[0])
-
-
-def _replay(ops: tuple, values: tuple, fixed: tuple) -> OptimizationProblem:
-    """A fresh problem built by the recorded operations, at ``values``."""
-    o = OptimizationProblem()
-    for op in ops:
-        if op[0] == "var":
-            _, value, _, name, labels = op
-            vid = o.add_random_var(value, name=name, labels=labels)
-            o.set_value(vid, values[vid])
-        elif op[0] == "prior":
-            _add_prior(o, *op[1:])
-        else:
-            _add_term(o, *op[1:])
-    for v in fixed:
-        o.fix(v)
-    return o
+    return problem.add_factor(factor, loss, name, group)
 
 
 def _pixels(z: Any, what: str) -> np.ndarray:

@@ -91,8 +91,9 @@ class PoseGraph(_core.PoseGraph):
         info = np.asarray(information, float)
         noise = noise_model(info.shape[0] if info.ndim == 2 else -1, information=info,
                             what=f"prior on vertex {vertex_id}")
-        return self.problem.add_prior(vid, np.asarray(value, float), noise,
-                                      name=f"prior on vertex {vertex_id}")
+        what = f"prior on vertex {vertex_id}"
+        factor = _core.prior_factor(self.problem, vid, np.asarray(value, float), noise, what)
+        return self.problem.add_factor(factor, name=what)
 
     # -- solving and results ------------------------------------------------
     def solve(
