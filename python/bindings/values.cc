@@ -104,9 +104,21 @@ SO3 RotationFrom(const py::handle& obj, const char* who) {
 }
 
 // p of shape (d,) → (d,); (N, d) → (N, d), each row mapped by f.
+// A manifold value (anything with `ambient`) is refused: numpy would turn an
+// SE2 into its ambient vector, and SE3 * SE2 would silently map it as a point.
 template <int D, class F>
-py::array_t<double> MapPoints(
-    const py::array_t<double, py::array::c_style | py::array::forcecast>& p, F f, const char* who) {
+py::array_t<double> MapPoints(const py::object& points, F f, const char* who) {
+  if (py::hasattr(points, "ambient") && !py::isinstance<py::array>(points)) {
+    throw py::type_error(std::string(who) + ": expected points of shape (" + std::to_string(D) +
+                         ",) or (N, " + std::to_string(D) + "), got a " +
+                         std::string(py::str(py::type::of(points).attr("__name__"))) +
+                         " (poses compose only with poses of their own kind)");
+  }
+  const auto p = AsArray(points);
+  if (!p) {
+    throw py::type_error(std::string(who) + ": expected an array of points, got a " +
+                         std::string(py::str(py::type::of(points).attr("__name__"))));
+  }
   if (p.ndim() == 1 && p.shape(0) == D) {
     Eigen::Matrix<double, D, 1> v(p.data());
     const Eigen::Matrix<double, D, 1> r = f(v);
@@ -315,7 +327,7 @@ x + δ = wrap(φ + δ);  y - x = wrap(φ_y − φ_x)  (1 DOF).
       .def("inverse", &SO2::inverse)
       .def("__mul__", [](const SO2& a, const SO2& b) { return a * b; })
       .def("__mul__",
-           [](const SO2& a, const Mat& p) {
+           [](const SO2& a, const py::object& p) {
              return MapPoints<2>(
                  p, [&](const Eigen::Vector2d& v) { return Eigen::Vector2d(a * v); }, "SO2 * p");
            })
@@ -349,7 +361,7 @@ Construct with SO3() (identity), SO3(R) (R a 3×3 rotation matrix, a quaternion
       .def("inverse", &SO3::inverse)
       .def("__mul__", [](const SO3& a, const SO3& b) { return a * b; })
       .def("__mul__",
-           [](const SO3& a, const Mat& p) {
+           [](const SO3& a, const py::object& p) {
              return MapPoints<3>(
                  p, [&](const Eigen::Vector3d& v) { return Eigen::Vector3d(a * v); }, "SO3 * p");
            })
@@ -395,14 +407,14 @@ SE2(T) (3×3 homogeneous matrix), SE2(pos, phi) or SE2(pos, rot) (rot an SO2).
       .def("transform", &SE2::transform, "3×3 homogeneous matrix, local → parent.")
       .def(
           "fromlocal",
-          [](const SE2& x, const Mat& p) {
+          [](const SE2& x, const py::object& p) {
             return MapPoints<2>(
                 p, [&](const Eigen::Vector2d& v) { return x.fromlocal(v); }, "fromlocal");
           },
           py::arg("v"), "R v + p: local → parent coordinates.")
       .def(
           "tolocal",
-          [](const SE2& x, const Mat& p) {
+          [](const SE2& x, const py::object& p) {
             return MapPoints<2>(
                 p, [&](const Eigen::Vector2d& v) { return x.tolocal(v); }, "tolocal");
           },
@@ -410,7 +422,7 @@ SE2(T) (3×3 homogeneous matrix), SE2(pos, phi) or SE2(pos, rot) (rot an SO2).
       .def("inverse", &SE2::inverse)
       .def("__mul__", [](const SE2& a, const SE2& b) { return a * b; })
       .def("__mul__",
-           [](const SE2& a, const Mat& p) {
+           [](const SE2& a, const py::object& p) {
              return MapPoints<2>(
                  p, [&](const Eigen::Vector2d& v) { return a.fromlocal(v); }, "SE2 * p");
            })
@@ -461,14 +473,14 @@ qw]) (the ambient vector) or SE3.from_matrix(T).
       .def("matrix", &SE3::transform, "Same as transform().")
       .def(
           "fromlocal",
-          [](const SE3& x, const Mat& p) {
+          [](const SE3& x, const py::object& p) {
             return MapPoints<3>(
                 p, [&](const Eigen::Vector3d& v) { return x.fromlocal(v); }, "fromlocal");
           },
           py::arg("v"), "R v + p: local → parent coordinates.")
       .def(
           "tolocal",
-          [](const SE3& x, const Mat& p) {
+          [](const SE3& x, const py::object& p) {
             return MapPoints<3>(
                 p, [&](const Eigen::Vector3d& v) { return x.tolocal(v); }, "tolocal");
           },
@@ -476,7 +488,7 @@ qw]) (the ambient vector) or SE3.from_matrix(T).
       .def("inverse", &SE3::inverse)
       .def("__mul__", [](const SE3& a, const SE3& b) { return a * b; })
       .def("__mul__",
-           [](const SE3& a, const Mat& p) {
+           [](const SE3& a, const py::object& p) {
              return MapPoints<3>(
                  p, [&](const Eigen::Vector3d& v) { return a.fromlocal(v); }, "SE3 * p");
            })
@@ -507,11 +519,18 @@ orthogonal to x); y - x ∈ R², ‖y - x‖ = angle between x and y.
 A vector of Rⁿ: Rn(n) is the zero vector, Rn(v) holds v. x + δ = x + δ.
 )doc");
   rn.def(py::init([](const py::object& arg) {
-           if (py::isinstance<py::int_>(arg)) {
+           if (PyBool_Check(arg.ptr())) {
+             throw py::type_error("Rn(n): n must be an int or a vector, got a bool");
+           }
+           // Any integer scalar (int, numpy.int64, ...: what has __index__ and is
+           // not an array) is the dimension n, so Rn(np.int64(3)) is Rn(3).
+           if (!py::isinstance<py::array>(arg) && PyIndex_Check(arg.ptr())) {
+             const py::int_ as_int = py::reinterpret_steal<py::int_>(PyNumber_Index(arg.ptr()));
+             if (!as_int) throw py::error_already_set();
              int overflow = 0;
-             const long long n = PyLong_AsLongLongAndOverflow(arg.ptr(), &overflow);
+             const long long n = PyLong_AsLongLongAndOverflow(as_int.ptr(), &overflow);
              if (n < 1 && overflow == 0) throw py::value_error("Rn(n): n must be at least 1");
-             if (overflow != 0 || n > kRnMaxDimension) RnTooLarge(std::string(py::str(arg)));
+             if (overflow != 0 || n > kRnMaxDimension) RnTooLarge(std::string(py::str(as_int)));
              return Rn(static_cast<int>(n));
            }
            py::array_t<double, py::array::c_style | py::array::forcecast> a =

@@ -410,7 +410,7 @@ class SO2:
         
         1. __mul__(self: boxplus._core.SO2, arg0: boxplus._core.SO2) -> boxplus._core.SO2
         
-        2. __mul__(self: boxplus._core.SO2, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
+        2. __mul__(self: boxplus._core.SO2, arg0: object) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
     def from_ambient(a: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> SO2:
@@ -451,7 +451,7 @@ class SO2:
     def __mul__(self, arg0: SO2) -> SO2:
         ...
     @typing.overload
-    def __mul__(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def __mul__(self, arg0: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         ...
     def __repr__(self) -> str:
         ...
@@ -514,7 +514,7 @@ class SO3:
         
         1. __mul__(self: boxplus._core.SO3, arg0: boxplus._core.SO3) -> boxplus._core.SO3
         
-        2. __mul__(self: boxplus._core.SO3, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
+        2. __mul__(self: boxplus._core.SO3, arg0: object) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
     def exp(w: typing.Any) -> SO3:
@@ -570,7 +570,7 @@ class SO3:
     def __mul__(self, arg0: SO3) -> SO3:
         ...
     @typing.overload
-    def __mul__(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def __mul__(self, arg0: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         ...
     def __repr__(self) -> str:
         ...
@@ -646,7 +646,7 @@ class SE2:
         
         1. __mul__(self: boxplus._core.SE2, arg0: boxplus._core.SE2) -> boxplus._core.SE2
         
-        2. __mul__(self: boxplus._core.SE2, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
+        2. __mul__(self: boxplus._core.SE2, arg0: object) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
     def exp(delta: typing.Any) -> SE2:
@@ -701,7 +701,7 @@ class SE2:
     def __mul__(self, arg0: SE2) -> SE2:
         ...
     @typing.overload
-    def __mul__(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def __mul__(self, arg0: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         ...
     def __repr__(self) -> str:
         ...
@@ -715,7 +715,7 @@ class SE2:
         ...
     def copy(self) -> SE2:
         ...
-    def fromlocal(self, v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def fromlocal(self, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         """
         R v + p: local → parent coordinates.
         """
@@ -740,7 +740,7 @@ class SE2:
         """
         x ⊟ identity.
         """
-    def tolocal(self, v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def tolocal(self, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         """
         Rᵀ(v − p): parent → local coordinates.
         """
@@ -784,7 +784,7 @@ class SE3:
         
         1. __mul__(self: boxplus._core.SE3, arg0: boxplus._core.SE3) -> boxplus._core.SE3
         
-        2. __mul__(self: boxplus._core.SE3, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]
+        2. __mul__(self: boxplus._core.SE3, arg0: object) -> numpy.typing.NDArray[numpy.float64]
         """
     @staticmethod
     def exp(delta: typing.Any) -> SE3:
@@ -830,7 +830,7 @@ class SE3:
     def __mul__(self, arg0: SE3) -> SE3:
         ...
     @typing.overload
-    def __mul__(self, arg0: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def __mul__(self, arg0: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         ...
     def __repr__(self) -> str:
         ...
@@ -844,7 +844,7 @@ class SE3:
         ...
     def copy(self) -> SE3:
         ...
-    def fromlocal(self, v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def fromlocal(self, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         """
         R v + p: local → parent coordinates.
         """
@@ -873,7 +873,7 @@ class SE3:
         """
         Same as transform().
         """
-    def tolocal(self, v: typing.Annotated[numpy.typing.ArrayLike, numpy.float64]) -> numpy.typing.NDArray[numpy.float64]:
+    def tolocal(self, v: typing.Any) -> numpy.typing.NDArray[numpy.float64]:
         """
         Rᵀ(v − p): parent → local coordinates.
         """

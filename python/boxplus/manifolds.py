@@ -334,6 +334,10 @@ def _rn_codec(n: int) -> Codec:
 def _python_codec(cls: type[ManifoldValue], ambient_size: int) -> Codec:
     key = (cls, ambient_size)
     if key not in _codec_cache:
+        dof = getattr(cls, "dof", None)
+        if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or not 1 <= dof <= ambient_size:
+            raise TypeError(f"{cls.__name__}.dof must be an int from 1 to the ambient size "
+                            f"{ambient_size} (len(to_ambient())), got {dof!r}")
 
         def plus(x: np.ndarray, d: np.ndarray) -> np.ndarray:
             y = cls.from_ambient(x).boxplus(d)
@@ -525,9 +529,14 @@ def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase
         raise ValueError("make_compound needs at least one member")
     codecs, toff, aoff = {}, {}, {}
     t = a = 0
+    if not isinstance(_name, str) or not _name.isidentifier():
+        raise ValueError(f"make_compound: the type name must be an identifier, got {_name!r}")
     for name, proto in members.items():
         if name.startswith("_"):
-            raise ValueError(f"member name '{name}' must not start with '_'")
+            raise ValueError(f"make_compound('{_name}'): member name '{name}' must not start with '_'")
+        if name == "dof" or hasattr(_CompoundBase, name):  # would shadow boxplus, idx_of, ...
+            raise ValueError(f"make_compound('{_name}'): member name '{name}' is taken by the "
+                             f"compound's own interface ({name} of every compound); choose another")
         c = codec_of(proto)
         codecs[name], toff[name], aoff[name] = c, t, a
         t += c.dof

@@ -75,6 +75,7 @@ class OptimizationProblem:
         self._groups: dict[tuple[Any, ...], Group] = {}
         self._meas_group: dict[int, str] = {}
         self._group_dims: dict[str, int] = {}  # group -> rows' width (the noise's dimension)
+        self._names: dict[str, int] = {}  # variable name -> id
         self._labels: dict[int, list[str]] = {}
         self._touched: set[int] = set()  # variables some measurement depends on
         self._touched_upto = 0  # measurements already counted in _touched
@@ -104,8 +105,13 @@ class OptimizationProblem:
         ``labels`` names the tangent directions (e.g. ``["fx", "fy", ...]``) in
         reports; by default they come from the value's type (``Codec.labels``).
         """
-        codec = codec_of(value)
         what = f"variable '{name}'" if name else f"variable #{len(self._codecs)}"
+        if name is not None and not isinstance(name, str):
+            raise TypeError(f"{what}: name must be a str, got {type(name).__name__}")
+        if name and name in self._names:
+            raise ValueError(f"{what}: a variable of this name exists already (id "
+                             f"{self._names[name]}); names identify variables in reports")
+        codec = codec_of(value)
         init = np.asarray(codec.to_ambient(value), dtype=float)
         if not np.all(np.isfinite(init)):
             raise ValueError(f"{what}: the initial value has non-finite entries")
@@ -113,6 +119,8 @@ class OptimizationProblem:
             raise ValueError(f"{what}: {len(labels)} labels for {codec.dof} directions")
         vid = self._core.add_variable(codec.manifold, init, name or "")
         self._codecs.append(codec)
+        if name:
+            self._names[name] = vid
         if labels is not None:
             self._labels[vid] = list(labels)
         if fixed:
@@ -285,7 +293,7 @@ class OptimizationProblem:
         if not callable(f):
             raise TypeError(f"{what}: f must be callable, got {type(f).__name__}")
         ids = self.check_ids(ids, what)
-        constants = tuple(constants)
+        constants = _constants(constants, what)
         z_codec, z_amb = self._z_parts(z, what)
         m = z_codec.dof if z_codec is not None else z_amb.size
         nm = noise_model(m, sigma, covariance, information, noise, what)
@@ -362,7 +370,8 @@ class OptimizationProblem:
                 raise TypeError(f"{what}: row {i} refers to variables of other types than row 0")
         # Arrays (and lists) are per-measurement rows; anything else (a manifold
         # value, a scalar) is one constant shared by every row.
-        constants = tuple(np.asarray(c) if isinstance(c, (np.ndarray, list)) else c for c in constants)
+        constants = tuple(np.asarray(c) if isinstance(c, (np.ndarray, list)) else c
+                          for c in _constants(constants, what))
         shared = tuple(c for c in constants if not isinstance(c, np.ndarray))
         for j, c in enumerate(constants):
             if isinstance(c, np.ndarray) and (c.ndim == 0 or c.shape[0] != n):
@@ -663,6 +672,14 @@ class OptimizationProblem:
         new = OptimizationProblem.__new__(type(self))
         new.__setstate__(self.__getstate__())
         return new
+
+
+def _constants(constants: Any, what: str) -> tuple[Any, ...]:
+    """The extra arguments of f as a tuple (a str or a scalar is a slip, not a sequence)."""
+    if isinstance(constants, (str, bytes, dict)) or not isinstance(constants, (tuple, list)):
+        raise TypeError(f"{what}: constants must be a tuple or list of f's extra arguments "
+                        f"(e.g. constants=(p,)), got {type(constants).__name__}")
+    return tuple(constants)
 
 
 def _vector3(value: Any, keyword: str, what: str) -> np.ndarray:

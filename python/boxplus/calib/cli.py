@@ -38,9 +38,21 @@ from typing import Any
 
 import numpy as np
 
+from boxplus.files import same_file, write_atomically
+
 __all__ = ["main"]
 
 IMAGE_SUFFIXES = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".pgm", ".ppm"}
+# The list of files a run wrote into its --out folder: a later run that reads
+# that folder as images skips them (its plots are PNGs too).
+MANIFEST = ".boxplus-calib-outputs"
+
+
+def _own_outputs(folder: Path) -> set[str]:
+    try:
+        return set((folder / MANIFEST).read_text(encoding="utf-8").split("\n")) - {""}
+    except (OSError, UnicodeDecodeError):
+        return set()
 
 
 def _images(spec: str) -> list[Path]:
@@ -49,9 +61,19 @@ def _images(spec: str) -> list[Path]:
         files = sorted(f for f in p.iterdir() if f.suffix.lower() in IMAGE_SUFFIXES)
     else:
         files = sorted(Path(f) for f in glob.glob(spec))
+    skip = {f for f in files if f.name in _own_outputs(f.parent)}
+    files = [f for f in files if f not in skip]
     if not files:
-        raise SystemExit(f"boxplus-calib: no images in '{spec}'")
+        raise SystemExit(f"boxplus-calib: no images in '{spec}'"
+                         + (f" (its {len(skip)} PNGs are a calibration's own plots)" if skip else ""))
     return files
+
+
+def _camera_name(spec: str, index: int) -> str:
+    """A camera's name from its folder or glob: 'data/left' and 'data/left*.jpg' → 'left'."""
+    stem = Path(spec.rstrip("/")).name
+    name = re.sub(r"[^A-Za-z0-9_]", "", re.split(r"[*?\[]", stem)[0].split(".")[0])
+    return name if name and not name[0].isdigit() else f"cam{index}"
 
 
 def _key(path: Path) -> str:
@@ -77,7 +99,11 @@ def _match(cams: dict[str, list[Path]]) -> tuple[list[str], dict[str, list[Path 
 
 
 def _detect(target: Any, cams: dict[str, list[Path | None]], quiet: bool) -> tuple[dict, dict]:
-    import cv2
+    try:
+        import cv2
+    except ImportError:
+        raise SystemExit("boxplus-calib: reading images and finding the target needs OpenCV: "
+                         "pip install 'boxplus[calib]'") from None
 
     detections: dict[str, list[Any]] = {}
     sizes: dict[str, tuple[int, int]] = {}
@@ -128,7 +154,11 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--distance", type=float, default=None,
                     help="distance for the projection uncertainty (target units; default the "
                     "median distance of the boards)")
-    ap.add_argument("--out", default="calibration", help="output folder (default ./calibration)")
+    ap.add_argument("--out", default="calibration", help="output folder (default ./calibration); "
+                    "every file is written atomically (a failed write keeps the previous file)")
+    ap.add_argument("--write-into-input", action="store_true",
+                    help="allow --out to be a folder the images are read from (its outputs are "
+                    "then listed in .boxplus-calib-outputs and skipped by later runs)")
     ap.add_argument("--no-plots", action="store_true", help="write no PNGs")
     ap.add_argument("--quiet", action="store_true", help="no progress lines")
     return ap
@@ -151,9 +181,17 @@ def main(argv: list[str] | None = None) -> int:
             raise SystemExit(f"boxplus-calib: --camera '{spec}': expected NAME=FOLDER_OR_GLOB")
         cams[name] = _images(where)
     for folder in args.folders:
-        cams[Path(folder).name or f"cam{len(cams)}"] = _images(folder)
+        name = _camera_name(folder, len(cams))
+        if name in cams:
+            name = f"{name}{len(cams)}"
+        cams[name] = _images(folder)
     if not cams:
         raise SystemExit("boxplus-calib: no images: give folders or --camera NAME=GLOB")
+    for name in cams:
+        if not name.isidentifier():
+            raise SystemExit(f"boxplus-calib: camera name '{name}' must be letters, digits and "
+                             f"'_', not starting with a digit (it names keys in the output files)")
+    _check_output_folder(Path(args.out), cams, args.write_into_input)
     view_names, files = _match(cams)
     detections, sizes = _detect(target, files, args.quiet)
     # views no camera saw the target in are left out
@@ -174,12 +212,33 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def _check_output_folder(out: Path, cams: dict[str, list[Path]], allowed: bool) -> None:
+    """--out must be a folder (or not exist yet) and, unless allowed, not hold images read."""
+    if out.exists() and not out.is_dir():
+        raise SystemExit(f"boxplus-calib: --out '{out}' is a file, not a folder")
+    if allowed or not out.is_dir():
+        return
+    for name, files in cams.items():
+        if any(same_file(f.parent, out) for f in files):
+            raise SystemExit(f"boxplus-calib: --out '{out}' is the folder camera '{name}' reads "
+                             f"its images from; choose another folder, or --write-into-input")
+
+
 def _write(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
+    try:
+        _write_outputs(cal, file_names, args)
+    except OSError as e:
+        raise SystemExit(f"boxplus-calib: {e.strerror or e} ('{e.filename or args.out}'); "
+                         f"files written before are complete, none is truncated") from None
+
+
+def _write_outputs(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
     from boxplus.calib import io
     from boxplus.calib.uncertainty import projection_uncertainty
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    _record_outputs(out, _planned_outputs(cal, args))
     rep = cal.report()
     cams = cal.cameras()
     lines = [f"boxplus-calib: {len(cams)} camera(s), model {args.model}, "
@@ -214,10 +273,25 @@ def _write(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
             lines.append(f"not written: {what}: {e}")
     if not args.no_plots:
         written += _plots(cal, out, uncs, file_names)
-    lines.append("wrote " + ", ".join(written) + f" to {out}")
+    lines.append("wrote " + ", ".join(written + ["report.txt"]) + f" to {out}")
     text = "\n".join(lines)
-    (out / "report.txt").write_text(text + "\n")
+    write_atomically(out / "report.txt", text + "\n")
     print(text)
+
+
+def _planned_outputs(cal: Any, args: Any) -> list[str]:
+    """Every file a run may write into --out, listed before any is written."""
+    names = ["report.txt", "calibration.yml", "camchain.yaml"]
+    names += [f"{c.name}_camera_info.yaml" for c in cal.cameras()]
+    if not args.no_plots:
+        names += ["rms_per_image.png", "rig.png"]
+        for c in cal.view_ids:
+            names += [f"residuals_{c}.png", f"coverage_{c}.png", f"uncertainty_{c}.png"]
+    return names
+
+
+def _record_outputs(out: Path, names: list[str]) -> None:
+    write_atomically(out / MANIFEST, "\n".join(sorted(_own_outputs(out) | set(names))) + "\n")
 
 
 def _rms(cal: Any, camera: str) -> float:

@@ -23,7 +23,9 @@ raises ValueError naming the camera):
   coefficients: k3 must be 0) or ``equidistant``, and ``ds`` (double sphere,
   intrinsics [ξ, α, fu, fv, pu, pv]); ``T_cn_cnm1`` maps camera n−1 into camera n.
 
-Reading needs PyYAML (the ``calib`` extra); writing needs nothing.
+Reading needs PyYAML (the ``yaml`` extra); writing needs nothing. Every file is
+written atomically (:mod:`boxplus.files`): a failed write leaves the previous
+file as it was.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from boxplus.calib.models import camera_matrix, intrinsics_vector, model_labels
+from boxplus.files import write_atomically
 from boxplus.manifolds import SE3, SO3
 
 __all__ = ["Camera", "read_camchain", "read_camera_info", "read_opencv_yaml", "to_opencv",
@@ -127,7 +130,7 @@ def write_opencv_yaml(path: str | Path, cameras: Sequence[Camera]) -> None:
         if i > 0:
             lines.append(_opencv_matrix(f"{c.name}_R", c.cam_from_ref.rot.R))
             lines.append(_opencv_matrix(f"{c.name}_T", c.cam_from_ref.pos.reshape(3, 1)))
-    Path(path).write_text("".join(lines))
+    write_atomically(path, "".join(lines))
 
 
 def _ros_model(c: Camera) -> str:
@@ -161,7 +164,7 @@ def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = N
             f"camera_name: {camera.name}\n" + _ros_matrix("camera_matrix", K)
             + f"distortion_model: {model}\n" + _ros_matrix("distortion_coefficients", camera.dist[None])
             + _ros_matrix("rectification_matrix", R) + _ros_matrix("projection_matrix", P))
-    Path(path).write_text(text)
+    write_atomically(path, text)
 
 
 def _kalibr_entry(c: Camera) -> tuple[str, list[float], str, list[float]]:
@@ -201,7 +204,7 @@ def write_camchain(path: str | Path, cameras: Sequence[Camera],
                      f"  distortion_model: {dm}\n  distortion_coeffs: {_flow(dc)}\n"
                      f"  resolution: [{c.image_size[0]}, {c.image_size[1]}]\n"
                      f"  rostopic: {topics[i] if topics else f'/{c.name}/image_raw'}\n")
-    Path(path).write_text("".join(lines))
+    write_atomically(path, "".join(lines))
 
 
 # ---- reading ------------------------------------------------------------------------
@@ -210,13 +213,18 @@ def _yaml() -> Any:
     try:
         import yaml  # type: ignore[import-untyped]
     except ImportError:
-        raise ImportError("reading calibration files needs PyYAML: pip install pyyaml") from None
+        raise ImportError("reading calibration files needs PyYAML: pip install 'boxplus[yaml]'") from None
     return yaml
 
 
 def _load(path: str | Path, opencv: bool = False) -> dict:
     yaml = _yaml()
-    text = Path(path).read_text()
+    try:
+        text = Path(path).read_bytes().decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not a YAML text file (byte {e.start} is not UTF-8)") from None
+    if "\x00" in text:
+        raise ValueError(f"{path}: not a YAML text file (it holds NUL bytes)")
     if opencv:
         # FileStorage's header and matrix tag are not YAML 1.1: drop the
         # directive, read the tag as a plain mapping.

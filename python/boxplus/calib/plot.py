@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus.files import save_figure
 from boxplus.manifolds import SE3
 
 __all__ = ["plot_coverage", "plot_error_vectors", "plot_projection_uncertainty",
@@ -37,7 +38,7 @@ def _finish(fig: Any, path: Any, title: str | None = None) -> Any:
         fig.suptitle(title)
     if path is not None:
         fig.tight_layout()
-        fig.savefig(path, dpi=100)
+        save_figure(fig, path, dpi=100)
     return fig
 
 

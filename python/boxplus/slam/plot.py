@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
+from boxplus.files import save_figure
+
 if TYPE_CHECKING:
     from .pose_graph import PoseGraph
 
@@ -119,5 +121,5 @@ def plot_trajectory(
     fig = ax.figure
     if path is not None:
         fig.tight_layout()
-        fig.savefig(str(path), dpi=120)
+        save_figure(fig, path, dpi=120)
     return fig

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 
 #include "boxplus/errors.h"
 #include "boxplus/manifolds/ops_manifold.h"
@@ -114,10 +115,12 @@ class S2 : public ManifoldValue<S2, S2Ops> {
   S2() { x_ << 1, 0, 0; }
   // Normalises v; throws on a zero or non-finite vector.
   explicit S2(const Eigen::Vector3d& v) {
-    const double n = v.norm();
-    BOXPLUS_CHECK(std::isfinite(n) && n > 1e-12, "S2: vector must be finite and non-zero, got [",
-                  v.transpose(), "]");
-    x_ = v / n;
+    // Scaled by its largest entry first, so huge finite entries normalise too.
+    const double scale = v.allFinite() ? v.cwiseAbs().maxCoeff() : NAN;
+    BOXPLUS_CHECK(std::isfinite(scale) && scale > 0 && (scale >= 1 || v.norm() > 1e-12),
+                  "S2: vector must be finite and non-zero, got [", v.transpose(), "]");
+    const Eigen::Vector3d u = v / scale;
+    x_ = u / u.norm();
   }
   static S2 FromAmbient(const double* a) { return S2(Eigen::Vector3d(a[0], a[1], a[2])); }
   Eigen::Vector3d vec() const { return x_; }

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "boxplus/errors.h"
 #include "boxplus/manifolds/ops_manifold.h"
@@ -56,12 +57,15 @@ class SO3 : public ManifoldValue<SO3, SO3Ops> {
 
   // From a quaternion [x, y, z, w]; normalised. Throws on zero or non-finite.
   static SO3 FromQuaternion(const Eigen::Vector4d& xyzw) {
-    const double n = xyzw.norm();
-    BOXPLUS_CHECK(std::isfinite(n) && n > 1e-12,
+    // Scaled by its largest entry first: huge finite entries (1e308, whose norm
+    // overflows) normalise too, as the g2o reader's do.
+    const double scale = xyzw.allFinite() ? xyzw.cwiseAbs().maxCoeff() : NAN;
+    BOXPLUS_CHECK(std::isfinite(scale) && scale > 0 && (scale >= 1 || xyzw.norm() > 1e-12),
                   "SO3: quaternion must be finite and non-zero, got [", xyzw.transpose(),
                   "] (order x y z w)");
+    const Eigen::Vector4d u = xyzw / scale;
     SO3 r;
-    r.x_ = xyzw / n;
+    r.x_ = u / u.norm();
     return r;
   }
   // From a rotation matrix; throws unless R is orthonormal with det +1
