@@ -12,7 +12,7 @@ CXX_SOURCES = $(shell git ls-files 'cpp/*.h' 'cpp/*.cc' 'python/bindings/*.h' 'p
 export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
-.PHONY: format demo test deps venv install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
+.PHONY: format demo test deps venv venv-dev install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
 .PHONY: docs wheel
 
 demo: install
@@ -23,17 +23,28 @@ test: cpp-test consumer-test py-test lint
 deps:
 	@bash scripts/install_deps.sh
 
+# What the demo and the package need (the build tools, numpy, and the extras
+# boxplus-calib uses); the test, lint and docs tools are venv-dev's. The venv
+# does not see the system's site packages: only what is listed here.
+DEMO_PKGS := "scikit-build-core>=0.10" "pybind11>=2.12" numpy matplotlib \
+             "opencv-python-headless>=4.8,<5" pyyaml tqdm
+DEV_PKGS  := pytest hypothesis scipy ruff pybind11-stubgen mypy sphinx threadpoolctl \
+             "ray>=2.9" "dask[distributed]>=2023.1"
+
 venv: deps
-	@test -x $(VPY) || $(PYTHON) -m venv --system-site-packages $(VENV)
-	@$(VPY) -m pip install -q --disable-pip-version-check \
-	    "scikit-build-core>=0.10" "pybind11>=2.12" numpy pytest hypothesis scipy matplotlib \
-	    "opencv-python-headless>=4.8,<5" ruff pybind11-stubgen mypy sphinx tqdm
-	@# solve_many's cluster tests (Ray, Dask) and both BLAS thread controls
-	@$(VPY) -m pip install -q --disable-pip-version-check threadpoolctl "ray>=2.9" "dask[distributed]>=2023.1"
+	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
+	@echo "venv: the packages the demo needs"
+	@$(VPY) -m pip install -q --disable-pip-version-check $(DEMO_PKGS)
+
+# Tests, lint, docs: pytest, hypothesis, scipy (references), ruff, mypy, the stub
+# generator, Sphinx; solve_many's cluster tests (Ray, Dask) and both BLAS thread controls.
+venv-dev: venv
+	@echo "venv-dev: the test, lint and docs tools"
+	@$(VPY) -m pip install -q --disable-pip-version-check $(DEV_PKGS)
 
 # pip reuses build/<wheel tag>/, so a second install rebuilds only what changed.
 install: venv
-	$(VPY) -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps .
+	@bash scripts/install_package.sh
 
 cpp: deps
 	cmake -S . -B $(CPP_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -50,12 +61,12 @@ consumer-test: cpp
 	cmake --build build/consumer -j$(JOBS)
 	./build/consumer/consumer
 
-py-test: install
+py-test: install venv-dev
 	$(VPY) -m pytest -q
 
 # The rule sets and the mypy settings are in pyproject.toml. mypy reads the
 # committed stub python/boxplus/_core.pyi, so it needs no built extension.
-lint: venv
+lint: venv-dev
 	$(VPY) -m ruff check --no-cache python tests examples bench
 	$(VPY) -m mypy python/boxplus examples
 	clang-format --dry-run -Werror $(CXX_SOURCES)
@@ -64,14 +75,16 @@ lint: venv
 # The documentation site in build/docs (Sphinx autodoc over the installed
 # package, the tutorials of docs/tutorials); every warning is an error. `lint`
 # builds it too, after py-test has installed the package.
-docs: install
+docs: install venv-dev
 	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
 
 # A self-contained wheel in build/wheelhouse (scripts/build_wheel.sh: repaired
 # by auditwheel, one BLAS), then its test in a fresh venv (tests/python/test_wheel.py).
-wheel: venv
+# --noconftest: the test step needs no boxplus in this venv (the wheel is tested in its
+# own); tests/python/test_wheel.py checks that it runs so.
+wheel: venv-dev
 	bash scripts/build_wheel.sh
-	BOXPLUS_TEST_WHEEL=1 $(VPY) -m pytest -q tests/python/test_wheel.py
+	BOXPLUS_TEST_WHEEL=1 $(VPY) -m pytest -q --noconftest -p no:cacheprovider tests/python/test_wheel.py
 
 # clang-format (.clang-format: Google, 100 columns) over every C++ file.
 format:
@@ -79,7 +92,7 @@ format:
 
 # Regenerates the committed stub of the extension from the installed module
 # (tests/python/test_stubs.py fails when the two differ).
-stubs: install
+stubs: install venv-dev
 	rm -rf build/stubs
 	$(VPY) -m pybind11_stubgen boxplus._core -o build/stubs
 	cp build/stubs/boxplus/_core.pyi python/boxplus/_core.pyi
@@ -99,7 +112,7 @@ ASAN_SITE  := build/asan-site
 ASAN_FLAGS := -O1 -g1 -DNDEBUG
 ASAN_ENV   := ASAN_OPTIONS=detect_leaks=0:abort_on_error=0:strict_string_checks=1 \
               UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
-sanitize: venv
+sanitize: venv-dev
 	cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBOXPLUS_SANITIZE=ON \
 	    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$(ASAN_FLAGS)" >/dev/null
 	cmake --build build/asan -j$(JOBS)

@@ -61,8 +61,11 @@ echo "build_wheel: licence of the binary"
 "$PY" -m wheel unpack -d "$WORK/unpacked" "$REPAIRED" >/dev/null
 TREE=$(ls -d "$WORK"/unpacked/boxplus-*)
 DIST=$(ls -d "$TREE"/boxplus-*.dist-info)
-cp docs/LICENSE-binary.txt "$DIST/LICENSE-binary.txt"
-# License of the binary distribution (METADATA is RFC 822: replace the one field).
+mkdir -p "$DIST/licenses"
+cp docs/LICENSE-binary.txt "$DIST/licenses/LICENSE-binary.txt"
+# License of the binary distribution (METADATA is RFC 822; PEP 639's
+# License-Expression replaces the sources' BSD-3-Clause, and LICENSE-binary.txt
+# joins the sources' LICENSE as a licence file).
 "$PY" - "$DIST/METADATA" <<'EOF'
 import sys
 path = sys.argv[1]
@@ -71,13 +74,14 @@ out, done = [], False
 for line in lines:
     if line.startswith("License:") or line.startswith("License-Expression:"):
         if not done:
-            out.append("License: GPL-3.0-or-later (the binary wheel, which bundles GPL "
-                       "parts of SuiteSparse; see LICENSE-binary.txt). Sources: BSD-3-Clause.")
+            out.append("License-Expression: GPL-3.0-or-later")
+            out.append("License-File: LICENSE-binary.txt")
             done = True
         continue
     out.append(line)
 if not done:
-    out.insert(3, "License: GPL-3.0-or-later (the binary wheel; see LICENSE-binary.txt)")
+    out.insert(3, "License-Expression: GPL-3.0-or-later")
+    out.insert(4, "License-File: LICENSE-binary.txt")
 open(path, "w", encoding="utf-8").write("\n".join(out))
 EOF
 "$PY" -m wheel pack -d "$OUT" "$TREE" >/dev/null

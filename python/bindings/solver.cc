@@ -5,6 +5,7 @@
 #include "solver.h"
 
 #include <pybind11/stl.h>
+#include <algorithm>
 
 #include <functional>
 #include <sstream>
@@ -100,10 +101,13 @@ py::dict ToDict(const T& t, const std::vector<Field<T>>& fields) {
 }
 
 // Keyword construction, read-only or read-write attributes, repr,
-// todict(), == and pickling from the field table.
+// todict(), == and pickling from the field table. The repr shows the fields
+// named in `repr_fields` (all when empty): a record with long text fields
+// (a solve's full Ceres report) stays one line; todict() has them all.
 template <class T>
 void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<T>> fields,
-                bool writable, std::function<void(const T&)> validate) {
+                bool writable, std::function<void(const T&)> validate,
+                std::vector<std::string> repr_fields = {}) {
   auto table = std::make_shared<std::vector<Field<T>>>(std::move(fields));
   cls.def(py::init([table, owner, validate](const py::kwargs& kw) {
             T t;
@@ -133,10 +137,14 @@ void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<
   cls.def(
       "todict", [table](const T& t) { return ToDict(t, *table); },
       "The fields as a dict (keyword arguments of the constructor).");
-  cls.def("__repr__", [table, owner](const T& t) {
+  cls.def("__repr__", [table, owner, repr_fields](const T& t) {
     std::string s = owner + "(";
     bool first = true;
     for (const auto& f : *table) {
+      if (!repr_fields.empty() &&
+          std::find(repr_fields.begin(), repr_fields.end(), f.name) == repr_fields.end()) {
+        continue;
+      }
       s += (first ? "" : ", ") + f.name + "=" + std::string(py::repr(f.get(t)));
       first = false;
     }
@@ -293,7 +301,9 @@ What a solve did and why it stopped (read-only).
 Ctrl-C: the estimate is the last accepted one) or 'failure'; ``usable`` says
 whether the estimate may be used. ``initial_chi2``/``final_chi2`` = 2 × cost.
 )doc");
-  BindRecord<SolveSummary>(summary, "SolveSummary", SummaryFields(), false, nullptr);
+  BindRecord<SolveSummary>(
+      summary, "SolveSummary", SummaryFields(), false, nullptr,
+      {"termination", "usable", "iterations", "initial_chi2", "final_chi2", "time_s"});
   summary.def("__str__", [](const SolveSummary& s) { return SafeStr(FormatSummary(s)); });
 
   m.def("progress_header", &ProgressHeader, "The column titles of format_progress lines.");

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1478,6 +1478,10 @@ def joint_factor(problem: Problem, spec: dict, noise: NoiseModel, what: str = 'j
     """
     One term of joint calibration (link, distance, plane, line, line_anchor, projection, target_projection) over 3D-system points (constant, variable, DH chain, light sheet, beam); see factors/joint/terms.h. Variables are given by id inside the nested dict ``spec``.
     """
+def landmark_2d_factor(world_from_pose: typing.SupportsInt | typing.SupportsIndex, p_in_world: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, what: str = 'point') -> Factor:
+    """
+    A 2-D landmark (Rn(2) variable) seen from an SE2 pose: r = W (x⁻¹ · l − z); 2-dim noise; see factors/pose/observed_point.h.
+    """
 def loss_names() -> list[str]:
     """
     The accepted loss names.
@@ -1518,9 +1522,9 @@ def progress_header() -> str:
     """
     The column titles of format_progress lines.
     """
-def relative_pose_factor(world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], noise: NoiseModel, what: str = 'relative pose') -> Factor:
+def relative_pose_factor(world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, what: str = 'relative pose') -> Factor:
     """
-    r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; see factors/pose/relative_pose.h.
+    r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b) on SE2 (3-dim noise) or SE3 (6-dim), tangent [δp, δθ]; see factors/pose/relative_pose.h.
     """
 __version__: str = '0.1.0'
 pose_graph_implausible_chi2_per_dof: float = 10.0

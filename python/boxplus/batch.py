@@ -97,6 +97,11 @@ def matrix_to_quat(R: np.ndarray) -> np.ndarray:
     return q / np.linalg.norm(q, axis=1, keepdims=True)
 
 
+def _wrap(phi: np.ndarray) -> np.ndarray:
+    """Angles in [−π, π), as SO2 keeps them."""
+    return (np.asarray(phi, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+
+
 def _points(p: Any, n: int, d: int) -> np.ndarray:
     p = np.asarray(p, dtype=float)
     if p.shape == (d,):
@@ -141,8 +146,15 @@ class SO2Batch:
     def ambient(self) -> np.ndarray:
         return self.phi[:, None]
 
-    def __mul__(self, p: Any) -> np.ndarray:
-        return np.einsum("nij,nj->ni", self.R, _points(p, len(self.phi), 2))
+    def inverse(self) -> SO2Batch:
+        return SO2Batch(_wrap(-self.phi))
+
+    def __mul__(self, other: Any) -> Any:
+        if isinstance(other, (SO2Batch, SO2)):
+            return SO2Batch(_wrap(self.phi + other.phi))
+        return np.einsum("nij,nj->ni", self.R, _points(other, len(self.phi), 2))
+
+    __matmul__ = __mul__
 
     def __len__(self) -> int:
         return len(self.phi)
@@ -222,13 +234,32 @@ class SE2Batch:
     def ambient(self) -> np.ndarray:
         return np.column_stack([self.pos, self.phi])
 
+    def transform(self) -> np.ndarray:
+        """Homogeneous 3×3 matrices [[R, p], [0, 1]] (N, 3, 3)."""
+        T = np.zeros((len(self), 3, 3))
+        T[:, :2, :2] = self.R
+        T[:, :2, 2] = self.pos
+        T[:, 2, 2] = 1.0
+        return T
+
     def fromlocal(self, v: Any) -> np.ndarray:
+        """R v + p for each row."""
         return np.einsum("nij,nj->ni", self.R, _points(v, len(self), 2)) + self.pos
 
     def tolocal(self, v: Any) -> np.ndarray:
+        """Rᵀ (v − p) for each row."""
         return np.einsum("nji,nj->ni", self.R, _points(v, len(self), 2) - self.pos)
 
-    __mul__ = fromlocal
+    def inverse(self) -> SE2Batch:
+        return SE2Batch(-np.einsum("nji,nj->ni", self.R, self.pos), _wrap(-self.phi))
+
+    def __mul__(self, other: Any) -> Any:
+        """Composition with SE2 poses (a batch or one value), else the points mapped."""
+        if isinstance(other, (SE2Batch, SE2)):
+            return SE2Batch(self.fromlocal(other.pos), _wrap(self.phi + other.phi))
+        return self.fromlocal(other)
+
+    __matmul__ = __mul__
 
     def __len__(self) -> int:
         return self.pos.shape[0]

@@ -282,9 +282,9 @@ class RayExecutor(concurrent.futures.Executor):
     """
 
     def __init__(self, num_cpus: float = 1, max_retries: int = 0) -> None:
-        import ray
+        from boxplus._optional import require
 
-        self._ray = ray
+        self._ray = require("ray", "RayExecutor")
         self._options = dict(num_cpus=num_cpus, max_retries=max_retries)
         self._remote: Any = None
 

@@ -39,7 +39,7 @@ import numpy as np
 from boxplus import _core, _journal, batch, solver
 from boxplus._journal import journalled
 from boxplus.losses import LossSpec, make_loss
-from boxplus.manifolds import SE3, Codec, codec_of
+from boxplus.manifolds import SE2, SE3, Codec, codec_of
 from boxplus.measurements import EvaluationError, Group, batch_errors, note, vector_error
 from boxplus.noise import NoiseModel, noise_model, noise_models
 
@@ -466,36 +466,57 @@ class OptimizationProblem:
 
     @journalled
     def add_relative_pose(
-        self, a_from_b: SE3, world_from_a: int, world_from_b: int, sigma: Any = None,
+        self, a_from_b: SE2 | SE3, world_from_a: int, world_from_b: int, sigma: Any = None,
         covariance: Any = None, information: Any = None, noise: NoiseModel | None = None,
         loss: LossSpec = None, name: str | None = None, group: str = "relative_pose",
     ) -> int:
-        """A measured relative pose of two SE3 variables (factors/pose/relative_pose.h).
+        """A measured relative pose of two SE2 or two SE3 variables (odometry, a loop
+        closure, a robot's forward kinematics; factors/pose/relative_pose.h).
 
-        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), 6-dim [δp, δθ] (the compound
-        ⊟ of R³ × SO(3)); noise 6-dim in that order.
+        r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b) with the compound ⊟ of
+        Rᵈ × SO(d): [δp, δθ], 3-dim noise for SE2, 6-dim for SE3, in that order.
         """
         what = f"measurement '{name}'" if name else f"relative pose #{self.num_measurements}"
         ids = self.check_ids([world_from_a, world_from_b], what)
-        if not isinstance(a_from_b, SE3):
-            raise TypeError(f"{what}: a_from_b must be an SE3, got {type(a_from_b).__name__}")
-        nm = noise_model(6, sigma, covariance, information, noise, what)
+        if not isinstance(a_from_b, (SE2, SE3)):
+            raise TypeError(f"{what}: a_from_b must be an SE2 or an SE3, got {type(a_from_b).__name__}")
+        kind = type(a_from_b).__name__
+        for v in ids:
+            if self.codec(v).name != kind:
+                raise TypeError(f"{what}: a_from_b is an {kind}, variable "
+                                f"'{self.variable_name(v) or v}' is a {self.codec(v).name}")
+        nm = noise_model(len(a_from_b), sigma, covariance, information, noise, what)
         f = _core.relative_pose_factor(ids[0], ids[1], a_from_b.ambient, nm, what)
         return self.add_factor(f, loss, name, group)
 
     @journalled
     def add_point(
-        self, z: Any, world_from_rig: int, cam_from_rig: int, p_in_world: Any,
+        self, z: Any, world_from_rig: int, cam_from_rig: int | None, p_in_world: Any,
         sigma: Any = None, covariance: Any = None, information: Any = None,
         noise: NoiseModel | None = None, loss: LossSpec = None, name: str | None = None,
         group: str = "point",
     ) -> int:
-        """A 3-D point measured by a sensor on a rig (factors/pose/observed_point.h).
+        """A point measured by a sensor on a rig (factors/pose/observed_point.h).
 
-        r = W (cam_from_rig · world_from_rig⁻¹ · p_in_world − z): ``p_in_world`` is a
-        constant 3-vector or the id of an Rn(3) variable (a landmark); noise 3-dim.
+        3-D: r = W (cam_from_rig · world_from_rig⁻¹ · p_in_world − z) with SE3 poses;
+        ``p_in_world`` is a constant 3-vector or the id of an Rn(3) variable (a landmark);
+        noise 3-dim. 2-D: an SE2 ``world_from_rig`` (the sensor at the pose:
+        ``cam_from_rig=None``) and an Rn(2) landmark variable, r = W (x⁻¹ · l − z), noise
+        2-dim (a known 2-D point is a fixed landmark variable).
         """
         what = f"measurement '{name}'" if name else f"point #{self.num_measurements}"
+        if cam_from_rig is None:
+            ids = self.check_ids([world_from_rig, p_in_world], what)
+            if self.codec(ids[0]).name != "SE2" or self.codec(ids[1]).name != "Rn(2)":
+                raise TypeError(f"{what}: without cam_from_rig, world_from_rig must be an SE2 and "
+                                f"p_in_world an Rn(2) variable, got a {self.codec(ids[0]).name} "
+                                f"and a {self.codec(ids[1]).name}")
+            nm = noise_model(2, sigma, covariance, information, noise, what)
+            z2 = np.asarray(z, dtype=float).reshape(-1)
+            if z2.size != 2 or not np.all(np.isfinite(z2)):
+                raise ValueError(f"{what}: z must be 2 finite numbers for a 2-D point")
+            f = _core.landmark_2d_factor(ids[0], ids[1], z2, nm, what)
+            return self.add_factor(f, loss, name, group)
         landmark = _is_id(p_in_world)
         ids = self.check_ids([world_from_rig, cam_from_rig] + ([p_in_world] if landmark else []), what)
         for v in ids[:2]:

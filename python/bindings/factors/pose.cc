@@ -41,17 +41,38 @@ void RegisterPoseFactors(py::module_& m) {
       "coordinates; see factors/pose/prior.h.");
   m.def(
       "relative_pose_factor",
-      [](int world_from_a, int world_from_b, const Pose& a_from_b, const NoiseModel& noise,
-         const std::string& what) {
+      [](int world_from_a, int world_from_b, const Eigen::VectorXd& a_from_b,
+         const NoiseModel& noise, const std::string& what) {
+        if (a_from_b.size() == 3) {  // SE2 [x, y, θ]
+          CheckDim(noise, 3, what);
+          return Factor{MakeRelativePose2D(a_from_b, noise, PoseErrorConvention::kCompound),
+                        {world_from_a, world_from_b},
+                        noise};
+        }
+        BOXPLUS_CHECK(a_from_b.size() == 7, what,
+                      ": a_from_b must be an SE2 [x, y, θ] or SE3 [p, q] ambient vector, got ",
+                      a_from_b.size(), " numbers");
         CheckDim(noise, 6, what);
-        return Factor{MakeRelativePose3D(a_from_b, noise, PoseErrorConvention::kCompound),
+        return Factor{MakeRelativePose3D(Pose(a_from_b), noise, PoseErrorConvention::kCompound),
                       {world_from_a, world_from_b},
                       noise};
       },
       py::arg("world_from_a"), py::arg("world_from_b"), py::arg("a_from_b"), py::arg("noise"),
       py::arg("what") = "relative pose",
-      "r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b), tangent [δp, δθ], 6-dim noise; "
+      "r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b) on SE2 (3-dim noise) or SE3 (6-dim), "
+      "tangent [δp, δθ]; "
       "see factors/pose/relative_pose.h.");
+  m.def(
+      "landmark_2d_factor",
+      [](int world_from_pose, int p_in_world, const Eigen::Vector2d& z, const NoiseModel& noise,
+         const std::string& what) {
+        CheckDim(noise, 2, what);
+        return Factor{MakeObservedPoint2D(z, noise), {world_from_pose, p_in_world}, noise};
+      },
+      py::arg("world_from_pose"), py::arg("p_in_world"), py::arg("z"), py::arg("noise"),
+      py::arg("what") = "point",
+      "A 2-D landmark (Rn(2) variable) seen from an SE2 pose: r = W (x⁻¹ · l − z); 2-dim noise; "
+      "see factors/pose/observed_point.h.");
   m.def(
       "point_factor",
       [](int world_from_rig, int cam_from_rig, int p_in_world_id, const Eigen::Vector3d& z,

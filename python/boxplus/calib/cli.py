@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._optional import require
 from boxplus.files import same_file, write_atomically
 
 __all__ = ["main"]
@@ -100,10 +101,9 @@ def _match(cams: dict[str, list[Path]]) -> tuple[list[str], dict[str, list[Path 
 
 def _detect(target: Any, cams: dict[str, list[Path | None]], quiet: bool) -> tuple[dict, dict]:
     try:
-        import cv2
-    except ImportError:
-        raise SystemExit("boxplus-calib: reading images and finding the target needs OpenCV: "
-                         "pip install 'boxplus[calib]'") from None
+        cv2 = require("cv2", "reading images and finding the target")
+    except ImportError as e:
+        raise SystemExit(f"boxplus-calib: {e}") from None
 
     detections: dict[str, list[Any]] = {}
     sizes: dict[str, tuple[int, int]] = {}

@@ -37,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._optional import require
 from boxplus.calib.models import camera_matrix, intrinsics_vector, model_labels
 from boxplus.files import write_atomically
 from boxplus.manifolds import SE3, SO3
@@ -210,11 +211,7 @@ def write_camchain(path: str | Path, cameras: Sequence[Camera],
 # ---- reading ------------------------------------------------------------------------
 
 def _yaml() -> Any:
-    try:
-        import yaml  # type: ignore[import-untyped]
-    except ImportError:
-        raise ImportError("reading calibration files needs PyYAML: pip install 'boxplus[yaml]'") from None
-    return yaml
+    return require("yaml", "reading calibration files")
 
 
 def _load(path: str | Path, opencv: bool = False) -> dict:

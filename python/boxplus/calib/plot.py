@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._optional import require
 from boxplus.files import save_figure
 from boxplus.manifolds import SE3
 
@@ -27,8 +28,7 @@ __all__ = ["plot_coverage", "plot_error_vectors", "plot_projection_uncertainty",
 def _figure(ax: Any, figsize: tuple[float, float], projection: str | None = None) -> tuple[Any, Any]:
     if ax is not None:
         return ax.figure, ax
-    from matplotlib.figure import Figure
-
+    Figure = require("matplotlib.figure", "plotting").Figure
     fig = Figure(figsize=figsize)
     return fig, fig.add_subplot(projection=projection)
 

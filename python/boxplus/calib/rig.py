@@ -19,6 +19,7 @@ import numpy as np
 
 from boxplus import problem as _problem
 from boxplus._core import SolveSummary
+from boxplus._optional import require
 from boxplus.calib.factors import add_board
 from boxplus.calib.init import (
     CAMERA_LABELS,
@@ -459,11 +460,7 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
 def detect_corners(images: Sequence[np.ndarray], pattern_size: tuple[int, int]) -> list[np.ndarray | None]:
     """Chessboard corners per image with OpenCV (the optional extra
     opencv-python-headless): (N, 2) float arrays, None where no board was found."""
-    try:
-        import cv2
-    except ImportError:
-        raise ImportError("corner detection needs opencv-python-headless: pip install "
-                          "'opencv-python-headless<5'") from None
+    cv2 = require("cv2", "corner detection")
     out: list[np.ndarray | None] = []
     crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
     for img in images:

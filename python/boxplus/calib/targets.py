@@ -25,16 +25,13 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._optional import require
+
 __all__ = ["Target", "parse_target"]
 
 
 def _cv2() -> Any:
-    try:
-        import cv2
-    except ImportError:
-        raise ImportError("target detection needs opencv-python-headless: pip install "
-                          "'opencv-python-headless<5'") from None
-    return cv2
+    return require("cv2", "target detection")
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
+from boxplus._optional import require
 from boxplus.files import save_figure
 
 if TYPE_CHECKING:
@@ -27,13 +28,9 @@ def _new_axes(three_d: bool, to_file_only: bool) -> Any:
     """Axes of a new figure: a plain Figure (no pyplot state) for a file, else pyplot's."""
     kw = {"projection": "3d"} if three_d else {}
     if to_file_only:
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(7, 7))
+        fig = require("matplotlib.figure", "plotting a pose graph").Figure(figsize=(7, 7))
     else:
-        import matplotlib.pyplot as plt
-
-        fig = plt.figure(figsize=(7, 7))
+        fig = require("matplotlib.pyplot", "plotting a pose graph").figure(figsize=(7, 7))
     return fig.add_subplot(1, 1, 1, **kw)
 
 
