@@ -6,7 +6,12 @@ built: ``make install``); docstrings are NumPy style (napoleon). The built-in
 every warning is an error.
 """
 
+import sys
+from pathlib import Path
+
 import boxplus
+
+sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
 project = "boxplus"
 author = "the boxplus authors"
@@ -18,6 +23,7 @@ extensions = [
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
+    "boxplus_docs",  # _ext/boxplus_docs.py: command help and C++ headers from the code
 ]
 exclude_patterns = ["_build"]
 html_theme = "alabaster"
