@@ -67,7 +67,7 @@ py-test: install venv-dev
 # The rule sets and the mypy settings are in pyproject.toml. mypy reads the
 # committed stub python/boxplus/_core.pyi, so it needs no built extension.
 lint: venv-dev
-	$(VPY) -m ruff check --no-cache python tests examples bench
+	$(VPY) -m ruff check --no-cache python tests examples bench docs
 	$(VPY) -m mypy python/boxplus examples
 	clang-format --dry-run -Werror $(CXX_SOURCES)
 	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
