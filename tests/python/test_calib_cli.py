@@ -37,7 +37,7 @@ def test_stereo_sample_end_to_end(tmp_path, capsys):
                  "--camera", f"right={SAMPLE}/right*.jpg", "--out", str(out), "--robust"]) == 0
     printed = capsys.readouterr()
     assert "detecting left: 13/13 (13 with the target)" in printed.err
-    assert "RMS over all corners" in printed.out and "σ·σ̂" in printed.out
+    assert "RMS reprojection error" in printed.out and "σ·σ̂" in printed.out
     for f in ["report.txt", "calibration.yml", "left_camera_info.yaml",
               "right_camera_info.yaml", "rms_per_image.png", "residuals_left.png", "coverage_right.png",
               "uncertainty_left.png", "rig.png"]:
@@ -56,9 +56,9 @@ def test_stereo_sample_end_to_end(tmp_path, capsys):
                            d["object_points"], tuple(int(s) for s in d["image_size"]), robust=5.0,
                            sigma=1.0)
     text = (out / "report.txt").read_text()
-    assert f"dropped {len(cal.dropped)} corner(s)" in text
+    assert f"Dropped {len(cal.dropped)} corner(s)" in text
     for c in cal.dropped:
-        assert f"{c.camera} {d['names_' + c.camera][c.view]} corner {c.corner}:" in text
+        assert f"{c.camera} {d['names_' + c.camera][c.view]} corner {c.corner} (" in text
     assert np.allclose(rig[0].intrinsics, cal.problem[cal.ids["left"]].vec, rtol=1e-6)
     assert np.allclose(rig[1].intrinsics, cal.problem[cal.ids["right"]].vec, rtol=1e-6)
     assert np.abs(rig[1].cam_from_ref.pos - cal.problem[cal.ids["right_from_left"]].pos).max() < 1e-6

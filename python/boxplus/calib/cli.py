@@ -13,28 +13,40 @@ file names::
     boxplus-calib --target chessboard:9x6:1 --camera 'left=data/left*.jpg' \\
         --camera 'right=data/right*.jpg' --out result
 
-Steps: detection (a progress line per camera on stderr), the joint solve of
-:func:`boxplus.calib.calibrate_rig` (one camera: mono, two: stereo, more: a
-rig with partial overlap), optionally dropping outlier corners
-(``--robust``), then into ``--out``: ``report.txt`` (also printed),
-``calibration.yml`` (OpenCV FileStorage), ``camchain.yaml`` (Kalibr) and one
-ROS ``camera_info`` YAML per camera where the model has one, and the PNGs —
-per-image RMS by file name, the residual vectors and the coverage of each
-camera, its projection uncertainty, and the rig in 3-D with each board pose
-as a frame.
+Three cameras, a fisheye among pinholes, the fisheye's intrinsics known from
+an earlier run::
 
-σ convention: the report's σ are from the corner noise ``--sigma`` (px), and
-the printed report shows the σ rescaled by the fit's residual beside them.
+    boxplus-calib --target charuco:7x5:0.04:0.03 --model opencv5 --model fish=kannala_brandt \\
+        --known-intrinsics fish=fisheye/calibration.yml cam0/ cam1/ fish/
+
+Steps: detection (a progress bar on a terminal, a line per camera in a log),
+the joint solve of :func:`boxplus.calib.calibrate_rig` (one camera: mono, two:
+stereo, more: a rig with partial overlap; views a camera cannot use are skipped
+and named), optionally dropping outlier corners (``--robust``), then into
+``--out``: ``report.txt`` (also printed: RMS per camera and the worst images,
+intrinsics and extrinsics with σ, the stereo baseline, what was skipped,
+warnings), ``board_poses.csv`` (every view's board pose with σ),
+``calibration.yml`` (OpenCV FileStorage; a stereo pair also with OpenCV's
+rectification M1 D1 M2 D2 R T R1 R2 P1 P2 Q), ``camchain.yaml`` (Kalibr, with
+``cam_overlaps``), one ROS ``camera_info`` YAML per camera (a stereo pair's with
+its rectification R and P, Tx = −f′·B) and the PNGs — per-image RMS, the
+residuals of each camera by size and by region of the image, its coverage, its
+projection uncertainty, and the rig in 3-D.
+
+σ convention: σ from the corner noise ``--sigma`` (px), with the σ rescaled by
+the fit's residual beside it.
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import glob
 import re
 import sys
+import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -99,23 +111,58 @@ def _match(cams: dict[str, list[Path]]) -> tuple[list[str], dict[str, list[Path 
         {c: list(fs) for c, fs in cams.items()}
 
 
+class _DetectionProgress:
+    """Progress of the detection: a bar (tqdm) or a line rewritten with \\r on a terminal,
+    one line per camera when done in a log file (no 900-character line of \\r updates)."""
+
+    def __init__(self, camera: str, total: int, quiet: bool) -> None:
+        self.camera, self.total, self.found, self.done = camera, total, 0, 0
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty()
+        self.bar = None
+        if not quiet and self.tty:
+            try:
+                tqdm = require("tqdm.auto", "a progress bar").tqdm
+                self.bar = tqdm(total=total, desc=f"detecting {camera}", unit="image", leave=True)
+            except ImportError:
+                pass
+
+    def step(self, found: bool) -> None:
+        self.done += 1
+        self.found += found
+        if self.quiet:
+            return
+        if self.bar is not None:
+            self.bar.update(1)
+            self.bar.set_postfix_str(f"{self.found} with the target")
+        elif self.tty:
+            print(f"\rdetecting {self.camera}: {self.done}/{self.total} ({self.found} with the "
+                  f"target)", end="", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.quiet:
+            return
+        if self.bar is not None:
+            self.bar.close()
+        else:
+            print(("\r" if self.tty else "") + f"detecting {self.camera}: {self.done}/{self.total} "
+                  f"({self.found} with the target)", file=sys.stderr, flush=True)
+
+
 def _detect(target: Any, cams: dict[str, list[Path | None]], quiet: bool) -> tuple[dict, dict]:
     try:
         cv2 = require("cv2", "reading images and finding the target")
     except ImportError as e:
         raise SystemExit(f"boxplus-calib: {e}") from None
-
     detections: dict[str, list[Any]] = {}
     sizes: dict[str, tuple[int, int]] = {}
     for c, files in cams.items():
         det: list[Any] = []
-        found = 0
-        for i, f in enumerate(files):
-            if not quiet:
-                print(f"\rdetecting {c}: {i + 1}/{len(files)} ({found} with the target)", end="",
-                      file=sys.stderr, flush=True)
+        progress = _DetectionProgress(c, len(files), quiet)
+        for f in files:
             if f is None:
                 det.append(None)
+                progress.step(False)
                 continue
             img = cv2.imread(str(f), cv2.IMREAD_GRAYSCALE)
             if img is None:
@@ -125,11 +172,9 @@ def _detect(target: Any, cams: dict[str, list[Path | None]], quiet: bool) -> tup
                 raise SystemExit(f"boxplus-calib: '{f}' is {size[0]}×{size[1]}, camera {c}'s other "
                                  f"images are {sizes[c][0]}×{sizes[c][1]}")
             d = target.detect(img)
-            found += d is not None
             det.append(d)
-        if not quiet:
-            print(f"\rdetecting {c}: {len(files)}/{len(files)} ({found} with the target)",
-                  file=sys.stderr)
+            progress.step(d is not None)
+        progress.close()
         detections[c] = det
     return detections, sizes
 
@@ -145,9 +190,14 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--target", required=True,
                     help="chessboard:COLSxROWS:SQUARE, charuco:COLSxROWS:SQUARE:MARKER[:DICT] or "
                     "aprilgrid:COLSxROWS:TAG:SPACING[:DICT] (sizes in your unit, e.g. metres)")
-    ap.add_argument("--model", default="opencv5",
+    ap.add_argument("--model", action="append", default=[], metavar="[CAMERA=]MODEL",
                     help="camera model: simple_radial, pinhole, radial1, radial2, opencv5, "
-                    "rational, kannala_brandt or double_sphere (default opencv5)")
+                    "rational, kannala_brandt or double_sphere (default opencv5); CAMERA=MODEL "
+                    "for one camera (repeat), a bare MODEL for the others")
+    ap.add_argument("--known-intrinsics", action="append", default=[], metavar="CAMERA=FILE",
+                    help="hold a camera's intrinsics at those of an earlier calibration (an "
+                    "OpenCV YAML, Kalibr camchain or ROS camera_info file; the camera of that "
+                    "name in it, or its only camera); repeat for more cameras")
     ap.add_argument("--sigma", type=float, default=1.0, help="corner noise σ in px (default 1)")
     ap.add_argument("--robust", type=float, nargs="?", const=5.0, default=None, metavar="K",
                     help="drop corners whose error exceeds K σ̂ and re-solve (K default 5)")
@@ -164,16 +214,70 @@ def _parser() -> argparse.ArgumentParser:
     return ap
 
 
+def _models(specs: list[str], cams: list[str]) -> dict[str, str]:
+    """{camera: model} from repeated --model MODEL / CAMERA=MODEL."""
+    from boxplus.calib.models import model_labels
+
+    default, named = "opencv5", {}
+    for spec in specs:
+        cam, sep, model = spec.rpartition("=")
+        try:
+            model_labels(model)
+        except ValueError as e:
+            raise SystemExit(f"boxplus-calib: --model '{spec}': {e}") from None
+        if not sep:
+            default = model
+        elif cams and cam not in cams:
+            raise SystemExit(f"boxplus-calib: --model '{spec}': no camera '{cam}' (cameras: "
+                             f"{', '.join(cams)})")
+        else:
+            named[cam] = model
+    return {c: named.get(c, default) for c in cams}
+
+
+def _known_intrinsics(specs: list[str], models: dict[str, str]) -> dict[str, Any]:
+    """{camera: intrinsics} from --known-intrinsics CAMERA=FILE (any of the three formats)."""
+    from boxplus.calib import io
+
+    out = {}
+    for spec in specs:
+        cam, sep, path = spec.partition("=")
+        if not sep or cam not in models:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics '{spec}': expected CAMERA=FILE with "
+                             f"CAMERA one of {', '.join(models)}")
+        rig = None
+        errors = []
+        for read in (io.read_opencv_yaml, io.read_camchain, lambda p: [io.read_camera_info(p)]):
+            try:
+                rig = read(path)
+                break
+            except (ValueError, KeyError, TypeError) as e:
+                errors.append(str(e))
+            except OSError as e:
+                raise SystemExit(f"boxplus-calib: --known-intrinsics: {e}") from None
+        if rig is None:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': not an OpenCV, Kalibr "
+                             f"or ROS calibration file ({errors[0]})")
+        found = [c for c in rig if c.name == cam] or (rig if len(rig) == 1 else [])
+        if not found:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': no camera '{cam}' in it "
+                             f"(it has {', '.join(c.name for c in rig)})")
+        if found[0].model != models[cam]:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': camera '{cam}' is a "
+                             f"{found[0].model} there, --model says {models[cam]}")
+        out[cam] = found[0].intrinsics
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    from boxplus.calib.models import model_labels
     from boxplus.calib.targets import parse_target
 
     try:
         target = parse_target(args.target)
-        model_labels(args.model)
     except ValueError as e:
         raise SystemExit(f"boxplus-calib: {e}") from None
+    _models(args.model, [])  # unknown model names fail before the images are read
     cams: dict[str, list[Path]] = {}
     for spec in args.camera:
         name, sep, where = spec.partition("=")
@@ -192,19 +296,23 @@ def main(argv: list[str] | None = None) -> int:
             raise SystemExit(f"boxplus-calib: camera name '{name}' must be letters, digits and "
                              f"'_', not starting with a digit (it names keys in the output files)")
     _check_output_folder(Path(args.out), cams, args.write_into_input)
+    models = _models(args.model, list(cams))
+    known = _known_intrinsics(args.known_intrinsics, models)
     view_names, files = _match(cams)
     detections, sizes = _detect(target, files, args.quiet)
     # views no camera saw the target in are left out
     keep = [i for i in range(len(view_names)) if any(d[i] is not None for d in detections.values())]
-    from boxplus.calib.rig import calibrate_rig
+    from boxplus.calib.rig import RigConsistencyWarning, calibrate_rig
 
     try:
         for c in detections:
             if c not in sizes:
                 raise ValueError(f"camera {c}: no readable image")
-        cal = calibrate_rig({c: [d[i] for i in keep] for c, d in detections.items()}, sizes,
-                            args.model, sigma=args.sigma, robust=args.robust,
-                            view_names=[view_names[i] for i in keep])
+        with warnings.catch_warnings():  # the report names them
+            warnings.simplefilter("ignore", RigConsistencyWarning)
+            cal = calibrate_rig({c: [d[i] for i in keep] for c, d in detections.items()}, sizes,
+                                models, sigma=args.sigma, robust=args.robust,
+                                view_names=[view_names[i] for i in keep], known_intrinsics=known)
     except ValueError as e:
         raise SystemExit(f"boxplus-calib: {e}") from None
     file_names = {c: [f.name if (f := files[c][i]) is not None else "" for i in keep] for c in files}
@@ -234,6 +342,7 @@ def _write(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
 
 def _write_outputs(cal: Any, file_names: dict[str, list[str]], args: Any) -> None:
     from boxplus.calib import io
+    from boxplus.calib.summary import board_poses_csv, summarise
     from boxplus.calib.uncertainty import projection_uncertainty
 
     out = Path(args.out)
@@ -241,47 +350,70 @@ def _write_outputs(cal: Any, file_names: dict[str, list[str]], args: Any) -> Non
     _record_outputs(out, _planned_outputs(cal, args))
     rep = cal.report()
     cams = cal.cameras()
-    lines = [f"boxplus-calib: {len(cams)} camera(s), model {args.model}, "
-             f"{len(cal.view_names)} views, target {args.target}"]
-    for c in cal.view_ids:
-        lines.append(f"  {c}: {len(cal.view_ids[c])} views, RMS {_rms(cal, c):.4f} px")
-    lines.append(f"  RMS over all corners: {cal.rms():.4f} px")
-    if args.robust:
-        lines.append(f"  robust (k = {args.robust:g}): dropped {len(cal.dropped)} corner(s)")
-        for d in cal.dropped:
-            lines.append(f"    {d.camera} {file_names[d.camera][d.view]} corner {d.corner}: "
-                         f"{d.error_px:.2f} px")
-    lines.append(str(rep))
+    notes: list[str] = []
+    rect = None
+    if len(cams) == 2:
+        from boxplus.calib.rectify import rectify_stereo
+
+        try:
+            rect = rectify_stereo(*cams)
+        except (ValueError, ImportError) as e:
+            notes.append(f"no stereo rectification: {e}")
     distance = args.distance or _median_distance(cal)
-    uncs = {}
+    uncs, unc_lines = {}, []
     for c in cal.view_ids:
         try:
-            uncs[c] = projection_uncertainty(cal, c, distance)
-            lines.append(str(uncs[c]))
+            # from the fitted noise (σ·σ̂): the given --sigma is a guess, often 10× too large
+            uncs[c] = projection_uncertainty(cal, c, distance, rescale=True)
+            unc_lines.append(str(uncs[c]))
         except ValueError as e:
-            lines.append(f"{c}: no projection uncertainty: {e}")
+            unc_lines.append(f"{c}: no projection uncertainty: {e}")
     written = []
-    io.write_opencv_yaml(out / "calibration.yml", cams)
-    written.append("calibration.yml")
-    for what, fn in [("camchain.yaml", lambda: io.write_camchain(out / "camchain.yaml", cams))] + \
-            [(f"{c.name}_camera_info.yaml", lambda c=c: io.write_camera_info(out / f"{c.name}_camera_info.yaml", c))
-             for c in cams]:
+    overlaps = _overlaps(cal)
+    files: list[tuple[str, Callable[[], None]]] = [
+        ("calibration.yml", lambda: io.write_opencv_yaml(out / "calibration.yml", cams, rect)),
+             ("camchain.yaml", lambda: io.write_camchain(out / "camchain.yaml", cams,
+                                                         overlaps=overlaps))]
+    if rect is not None:
+        a, b = cams
+        files.append((f"{a.name}_camera_info.yaml and {b.name}_camera_info.yaml",
+                      lambda: io.write_stereo_camera_info(out / f"{a.name}_camera_info.yaml",
+                                                          out / f"{b.name}_camera_info.yaml", a, b,
+                                                          rect)))
+    else:
+        for c in cams:
+            files.append((f"{c.name}_camera_info.yaml",
+                          functools.partial(io.write_camera_info, out / f"{c.name}_camera_info.yaml", c)))
+    files.append(("board_poses.csv",
+                  lambda: write_atomically(out / "board_poses.csv", board_poses_csv(cal, rep))))
+    for what, fn in files:
         try:
             fn()
             written.append(what)
         except ValueError as e:
-            lines.append(f"not written: {what}: {e}")
+            notes.append(f"not written: {what}: {e}")
     if not args.no_plots:
         written += _plots(cal, out, uncs, file_names)
-    lines.append("wrote " + ", ".join(written + ["report.txt"]) + f" to {out}")
-    text = "\n".join(lines)
-    write_atomically(out / "report.txt", text + "\n")
+    text = summarise(cal, rep, file_names, args.target, rect)
+    text += "\n" + "\n".join(["Projection uncertainty:", *unc_lines, *notes])
+    text += "\nwrote " + ", ".join(written + ["report.txt"]) + f" to {out}"
+    full = text + "\n\nAll parameters but the board poses (those are in board_poses.csv):\n" + \
+        "\n".join(line for line in str(rep).splitlines() if "world_from_" not in line)
+    write_atomically(out / "report.txt", full + "\n")
     print(text)
+
+
+def _overlaps(cal: Any) -> list[list[int]]:
+    """For each camera, the cameras that saw the target in the same views (Kalibr's
+    cam_overlaps)."""
+    names = list(cal.view_ids)
+    seen = {c: set(cal.view_index[c]) for c in names}
+    return [[j for j, d in enumerate(names) if d != c and seen[c] & seen[d]] for c in names]
 
 
 def _planned_outputs(cal: Any, args: Any) -> list[str]:
     """Every file a run may write into --out, listed before any is written."""
-    names = ["report.txt", "calibration.yml", "camchain.yaml"]
+    names = ["report.txt", "calibration.yml", "camchain.yaml", "board_poses.csv"]
     names += [f"{c.name}_camera_info.yaml" for c in cal.cameras()]
     if not args.no_plots:
         names += ["rms_per_image.png", "rig.png"]
@@ -292,11 +424,6 @@ def _planned_outputs(cal: Any, args: Any) -> list[str]:
 
 def _record_outputs(out: Path, names: list[str]) -> None:
     write_atomically(out / MANIFEST, "\n".join(sorted(_own_outputs(out) | set(names))) + "\n")
-
-
-def _rms(cal: Any, camera: str) -> float:
-    E = np.concatenate([cal.problem.measurement_errors(m) for m in cal.view_ids[camera]])
-    return float(np.sqrt(np.mean(np.sum(E**2, axis=1))))
 
 
 def _median_distance(cal: Any) -> float:

@@ -8,24 +8,34 @@ maps points of the reference camera (the first one) into this camera.
 Formats (each file holds what the format can say; a model it cannot express
 raises ValueError naming the camera):
 
-* OpenCV YAML (``cv2.FileStorage`` reads it): ``camera_names`` (a sequence),
-  per camera ``<name>_model``, ``<name>_image_width``, ``<name>_image_height``,
-  ``<name>_camera_matrix`` (3×3), ``<name>_distortion_coefficients`` (1×n, in
-  OpenCV's order: :data:`~boxplus.calib.models.OPENCV_DISTORTION`) and, for every
-  camera after the first, ``<name>_R`` (3×3) and ``<name>_T`` (3×1), the
-  rotation and translation of ``cam_from_ref`` — for a stereo pair the R, T of
-  ``cv2.stereoCalibrate``/``cv2.stereoRectify``.
+* OpenCV YAML, written and read by ``cv2.FileStorage`` itself: ``camera_names``
+  (a sequence), per camera ``<name>_model``, ``<name>_image_width``,
+  ``<name>_image_height``, ``<name>_camera_matrix`` (3×3),
+  ``<name>_distortion_coefficients`` (1×n, in OpenCV's order:
+  :data:`~boxplus.calib.models.OPENCV_DISTORTION`) and, for every camera after
+  the first, ``<name>_R`` (3×3) and ``<name>_T`` (3×1), the rotation and
+  translation of ``cam_from_ref``. A stereo pair with its
+  :class:`~boxplus.calib.rectify.StereoRectification` also gets the names of
+  OpenCV's ``stereo_calib`` sample — ``M1 D1 M2 D2 R T R1 R2 P1 P2 Q`` — which
+  ``cv2.initUndistortRectifyMap`` and ``cv2.StereoSGBM`` pipelines read as they
+  are. OpenCV has no double-sphere model: such a camera is refused by name.
 * ROS ``camera_info`` (camera_calibration_parsers): one camera per file;
   ``plumb_bob`` (pinhole family), ``rational_polynomial`` (rational) or
-  ``equidistant`` (kannala_brandt); the rectification R and projection P
-  default to the identity and [K | 0].
+  ``equidistant`` (kannala_brandt). The rectification R and projection P are
+  those of a stereo pair's rectification (``R1``/``P1`` for the left camera,
+  ``R2``/``P2`` with Tx = −f′·B for the right: what ``stereo_image_proc``
+  needs), else the identity and [K | 0] (a camera used alone).
 * Kalibr camchain: ``cam0``, ``cam1``, …; ``pinhole`` with ``radtan`` (4
   coefficients: k3 must be 0) or ``equidistant``, and ``ds`` (double sphere,
-  intrinsics [ξ, α, fu, fv, pu, pv]); ``T_cn_cnm1`` maps camera n−1 into camera n.
+  intrinsics [ξ, α, fu, fv, pu, pv]); ``T_cn_cnm1`` maps camera n−1 into camera
+  n; ``cam_overlaps`` lists the cameras that saw the target together with it;
+  ``rostopic`` carries the camera's name (``/<name>/image_raw``).
 
-Reading needs PyYAML (the ``yaml`` extra); writing needs nothing. Every file is
-written atomically (:mod:`boxplus.files`): a failed write leaves the previous
-file as it was.
+OpenCV's files go through ``cv2.FileStorage`` (a compatible text fallback when
+OpenCV is absent), the other YAML files through ``yaml.safe_dump``/``safe_load``
+(PyYAML, the ``yaml`` extra; writing falls back to plain text without it). Every
+file is written atomically (:mod:`boxplus.files`): a failed write leaves the
+previous file as it was.
 """
 
 from __future__ import annotations
@@ -39,11 +49,12 @@ import numpy as np
 
 from boxplus._optional import require
 from boxplus.calib.models import camera_matrix, intrinsics_vector, model_labels
-from boxplus.files import write_atomically
+from boxplus.calib.rectify import StereoRectification, rectify_stereo
+from boxplus.files import atomic_path, write_atomically
 from boxplus.manifolds import SE3, SO3
 
 __all__ = ["Camera", "read_camchain", "read_camera_info", "read_opencv_yaml", "to_opencv",
-           "write_camchain", "write_camera_info", "write_opencv_yaml"]
+           "write_camchain", "write_camera_info", "write_opencv_yaml", "write_stereo_camera_info"]
 
 
 @dataclass
@@ -115,23 +126,66 @@ def _check_name(name: str) -> None:
                          f"and '_', not starting with a digit")
 
 
-def write_opencv_yaml(path: str | Path, cameras: Sequence[Camera]) -> None:
-    """Writes the rig in OpenCV FileStorage YAML (readable by ``cv2.FileStorage``)."""
+def write_opencv_yaml(path: str | Path, cameras: Sequence[Camera],
+                      rectification: StereoRectification | None = None) -> None:
+    """Writes the rig as OpenCV FileStorage YAML (through ``cv2.FileStorage`` when OpenCV is
+    installed); a stereo pair's ``rectification`` adds ``M1 D1 M2 D2 R T R1 R2 P1 P2 Q``."""
     if not cameras:
         raise ValueError(f"{path}: no cameras to write")
-    lines = ["%YAML:1.0\n---\n", "camera_names: [ " + ", ".join(f'"{c.name}"' for c in cameras)
-             + " ]\n"]
+    entries: list[tuple[str, Any]] = [("camera_names", [c.name for c in cameras])]
     for i, c in enumerate(cameras):
         _check_name(c.name)
-        lines.append(f'{c.name}_model: "{c.model}"\n')
-        lines.append(f"{c.name}_image_width: {c.image_size[0]}\n")
-        lines.append(f"{c.name}_image_height: {c.image_size[1]}\n")
-        lines.append(_opencv_matrix(f"{c.name}_camera_matrix", c.K))
-        lines.append(_opencv_matrix(f"{c.name}_distortion_coefficients", c.dist[None]))
+        if c.model == "double_sphere":
+            raise ValueError(f"camera '{c.name}': OpenCV has no double-sphere model (its "
+                             f"distortion_coefficients would mean k1, k2); write a Kalibr camchain")
+        entries += [(f"{c.name}_model", c.model), (f"{c.name}_image_width", c.image_size[0]),
+                    (f"{c.name}_image_height", c.image_size[1]),
+                    (f"{c.name}_camera_matrix", c.K),
+                    (f"{c.name}_distortion_coefficients", c.dist[None])]
         if i > 0:
-            lines.append(_opencv_matrix(f"{c.name}_R", c.cam_from_ref.rot.R))
-            lines.append(_opencv_matrix(f"{c.name}_T", c.cam_from_ref.pos.reshape(3, 1)))
-    write_atomically(path, "".join(lines))
+            entries += [(f"{c.name}_R", c.cam_from_ref.rot.R),
+                        (f"{c.name}_T", c.cam_from_ref.pos.reshape(3, 1))]
+    if rectification is not None:
+        if len(cameras) != 2:
+            raise ValueError(f"{path}: a rectification belongs to a stereo pair, the rig has "
+                             f"{len(cameras)} cameras")
+        a, b = cameras
+        b_from_a = b.cam_from_ref * a.cam_from_ref.inverse()
+        r = rectification
+        entries += [("M1", a.K), ("D1", a.dist[None]), ("M2", b.K), ("D2", b.dist[None]),
+                    ("R", b_from_a.rot.R), ("T", b_from_a.pos.reshape(3, 1)), ("R1", r.R1),
+                    ("R2", r.R2), ("P1", r.P1), ("P2", r.P2), ("Q", r.Q)]
+    try:
+        cv2 = require("cv2", "")
+    except ImportError:
+        write_atomically(path, _filestorage_text(entries))
+        return
+    with atomic_path(path) as tmp:
+        fs = cv2.FileStorage(str(tmp), cv2.FILE_STORAGE_WRITE | cv2.FILE_STORAGE_FORMAT_YAML)
+        for key, value in entries:
+            if isinstance(value, list):
+                fs.startWriteStruct(key, cv2.FileNode_SEQ)
+                for v in value:
+                    fs.write("", v)
+                fs.endWriteStruct()
+            elif isinstance(value, np.ndarray):
+                fs.write(key, np.ascontiguousarray(value, dtype=float))
+            else:
+                fs.write(key, value)
+        fs.release()
+
+
+def _filestorage_text(entries: list[tuple[str, Any]]) -> str:
+    """What ``cv2.FileStorage`` writes for these entries, for machines without OpenCV."""
+    lines = ["%YAML:1.0\n---\n"]
+    for key, value in entries:
+        if isinstance(value, list):
+            lines.append(f"{key}:\n" + "".join(f"   - {v}\n" for v in value))
+        elif isinstance(value, np.ndarray):
+            lines.append(_opencv_matrix(key, value))
+        else:
+            lines.append(f"{key}: {value}\n")
+    return "".join(lines)
 
 
 def _ros_model(c: Camera) -> str:
@@ -145,27 +199,66 @@ def _ros_model(c: Camera) -> str:
     return "plumb_bob"
 
 
-def _ros_matrix(name: str, M: np.ndarray) -> str:
-    M = np.atleast_2d(np.asarray(M, dtype=float))
-    return (f"{name}:\n  rows: {M.shape[0]}\n  cols: {M.shape[1]}\n  data: ["
-            + ", ".join(_num(v) for v in M.reshape(-1)) + "]\n")
-
-
 def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = None,
                       P: np.ndarray | None = None) -> None:
     """Writes one camera as a ROS ``camera_info`` YAML; ``R`` (3×3) and ``P`` (3×4) are the
-    rectification and projection (default: identity and [K | 0])."""
+    rectification and projection (a stereo pair's ``R1``/``P1`` or ``R2``/``P2`` from
+    :func:`boxplus.calib.rectify.rectify_stereo`; default: identity and [K | 0], a camera
+    used alone)."""
     model = _ros_model(camera)
     K = camera.K
     R = np.eye(3) if R is None else np.asarray(R, float)
     P = np.column_stack([K, np.zeros(3)]) if P is None else np.asarray(P, float)
     if R.shape != (3, 3) or P.shape != (3, 4):
         raise ValueError(f"camera '{camera.name}': R must be 3×3 and P 3×4, got {R.shape}, {P.shape}")
-    text = (f"image_width: {camera.image_size[0]}\nimage_height: {camera.image_size[1]}\n"
-            f"camera_name: {camera.name}\n" + _ros_matrix("camera_matrix", K)
-            + f"distortion_model: {model}\n" + _ros_matrix("distortion_coefficients", camera.dist[None])
-            + _ros_matrix("rectification_matrix", R) + _ros_matrix("projection_matrix", P))
+    doc = {"image_width": int(camera.image_size[0]), "image_height": int(camera.image_size[1]),
+           "camera_name": camera.name, "camera_matrix": _ros_mat(K), "distortion_model": model,
+           "distortion_coefficients": _ros_mat(camera.dist[None]),
+           "rectification_matrix": _ros_mat(R), "projection_matrix": _ros_mat(P)}
+    _write_yaml(path, doc)
+
+
+def write_stereo_camera_info(left_path: str | Path, right_path: str | Path, left: Camera,
+                             right: Camera, rectification: StereoRectification | None = None) -> None:
+    """The two ``camera_info`` files of a stereo pair with its rectification (computed
+    here unless given): what ``stereo_image_proc`` needs to see the baseline."""
+    r = rectification if rectification is not None else rectify_stereo(left, right)
+    write_camera_info(left_path, left, r.R1, r.P1)
+    write_camera_info(right_path, right, r.R2, r.P2)
+
+
+def _ros_mat(M: np.ndarray) -> dict[str, Any]:
+    M = np.atleast_2d(np.asarray(M, dtype=float))
+    return {"rows": int(M.shape[0]), "cols": int(M.shape[1]), "data": [float(v) for v in M.reshape(-1)]}
+
+
+def _write_yaml(path: str | Path, doc: dict[str, Any]) -> None:
+    """``yaml.safe_dump`` (block style, keys in order) or, without PyYAML, the same
+    mapping as text with the shortest round-trip numbers."""
+    try:
+        yaml = require("yaml", "")
+        text = yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=1000)
+    except ImportError:
+        text = _yaml_text(doc)
     write_atomically(path, text)
+
+
+def _yaml_text(doc: Any, indent: str = "") -> str:
+    out = []
+    for k, v in doc.items():
+        if isinstance(v, dict):
+            out.append(f"{indent}{k}:\n" + _yaml_text(v, indent + "  "))
+        elif isinstance(v, list) and v and isinstance(v[0], list):
+            out.append(f"{indent}{k}:\n" + "".join(f"{indent}- {_flow(row)}\n" for row in v))
+        elif isinstance(v, list):
+            out.append(f"{indent}{k}: " + ("[" + ", ".join(_scalar(x) for x in v) + "]") + "\n")
+        else:
+            out.append(f"{indent}{k}: {_scalar(v)}\n")
+    return "".join(out)
+
+
+def _scalar(x: Any) -> str:
+    return _num(x) if isinstance(x, float) else str(x)
 
 
 def _kalibr_entry(c: Camera) -> tuple[str, list[float], str, list[float]]:
@@ -192,20 +285,25 @@ def _flow(v: Sequence[float]) -> str:
 
 
 def write_camchain(path: str | Path, cameras: Sequence[Camera],
-                   topics: Sequence[str] | None = None) -> None:
-    """Writes the rig as a Kalibr camchain YAML (cam0 = the first camera)."""
-    lines = []
+                   topics: Sequence[str] | None = None,
+                   overlaps: Sequence[Sequence[int]] | None = None) -> None:
+    """Writes the rig as a Kalibr camchain YAML (cam0 = the first camera); ``overlaps[i]``
+    lists the cameras that saw the target together with camera i (``cam_overlaps``)."""
+    doc: dict[str, Any] = {}
     for i, c in enumerate(cameras):
         cm, intr, dm, dc = _kalibr_entry(c)
-        lines.append(f"cam{i}:\n")
+        entry: dict[str, Any] = {}
         if i > 0:
             T = (c.cam_from_ref * cameras[i - 1].cam_from_ref.inverse()).matrix()
-            lines.append("  T_cn_cnm1:\n" + "".join(f"  - {_flow(row)}\n" for row in T))
-        lines.append(f"  camera_model: {cm}\n  intrinsics: {_flow(intr)}\n"
-                     f"  distortion_model: {dm}\n  distortion_coeffs: {_flow(dc)}\n"
-                     f"  resolution: [{c.image_size[0]}, {c.image_size[1]}]\n"
-                     f"  rostopic: {topics[i] if topics else f'/{c.name}/image_raw'}\n")
-    write_atomically(path, "".join(lines))
+            entry["T_cn_cnm1"] = [[float(v) for v in row] for row in T]
+        entry.update(camera_model=cm, intrinsics=[float(v) for v in intr], distortion_model=dm,
+                     distortion_coeffs=[float(v) for v in dc],
+                     resolution=[int(c.image_size[0]), int(c.image_size[1])],
+                     rostopic=topics[i] if topics else f"/{c.name}/image_raw")
+        if overlaps is not None:
+            entry["cam_overlaps"] = [int(j) for j in overlaps[i]]
+        doc[f"cam{i}"] = entry
+    _write_yaml(path, doc)
 
 
 # ---- reading ------------------------------------------------------------------------
@@ -214,14 +312,19 @@ def _yaml() -> Any:
     return require("yaml", "reading calibration files")
 
 
-def _load(path: str | Path, opencv: bool = False) -> dict:
-    yaml = _yaml()
+def _text(path: str | Path) -> str:
     try:
         text = Path(path).read_bytes().decode("utf-8")
     except UnicodeDecodeError as e:
         raise ValueError(f"{path}: not a YAML text file (byte {e.start} is not UTF-8)") from None
     if "\x00" in text:
         raise ValueError(f"{path}: not a YAML text file (it holds NUL bytes)")
+    return text
+
+
+def _load(path: str | Path, opencv: bool = False) -> dict:
+    yaml = _yaml()
+    text = _text(path)
     if opencv:
         # FileStorage's header and matrix tag are not YAML 1.1: drop the
         # directive, read the tag as a plain mapping.
@@ -261,9 +364,42 @@ def _pose(R: np.ndarray, t: np.ndarray, what: str) -> SE3:
     return SE3(SO3(R), np.asarray(t, float).reshape(3))
 
 
+def _load_filestorage(path: str | Path) -> dict:
+    """An OpenCV YAML file read by ``cv2.FileStorage`` into the mapping _load gives."""
+    cv2 = require("cv2", "")
+    _text(path)  # a clear error for binary junk before OpenCV parses it
+    try:
+        fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ | cv2.FILE_STORAGE_FORMAT_YAML)
+    except cv2.error as e:
+        raise ValueError(f"{path}: not an OpenCV FileStorage file: {str(e).strip()[-200:]}") from None
+    if not fs.isOpened():
+        raise ValueError(f"{path}: cannot be opened as an OpenCV FileStorage file")
+    doc: dict[str, Any] = {}
+    root = fs.root()
+    for key in root.keys():
+        node = root.getNode(key)
+        if node.isSeq():
+            doc[key] = [node.at(i).string() if node.at(i).isString() else node.at(i).real()
+                        for i in range(node.size())]
+        elif node.isMap():
+            M = node.mat()
+            doc[key] = None if M is None else {"rows": M.shape[0], "cols": M.shape[1] if M.ndim > 1 else 1,
+                                               "data": M.reshape(-1).tolist()}
+        elif node.isString():
+            doc[key] = node.string()
+        else:
+            doc[key] = node.real()
+    fs.release()
+    return doc
+
+
 def read_opencv_yaml(path: str | Path) -> list[Camera]:
-    """The rig of a file written by :func:`write_opencv_yaml` (or by hand in that layout)."""
-    doc = _load(path, opencv=True)
+    """The rig of a file written by :func:`write_opencv_yaml` (or by hand in that layout),
+    read by ``cv2.FileStorage`` (PyYAML when OpenCV is absent)."""
+    try:
+        doc = _load_filestorage(path)
+    except ImportError:
+        doc = _load(path, opencv=True)
     names = _get(doc, "camera_names", path)
     if isinstance(names, str):
         names = [names]

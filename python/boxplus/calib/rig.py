@@ -11,12 +11,15 @@ k1 k2 p1 p2 k3; "radial2" k1 k2; "radial1" k1).
 
 from __future__ import annotations
 
+import functools
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from boxplus import blas_threads
 from boxplus import problem as _problem
 from boxplus._core import SolveSummary
 from boxplus._optional import require
@@ -35,8 +38,21 @@ from boxplus.calib.io import Camera, to_opencv
 from boxplus.calib.models import model_labels
 from boxplus.manifolds import SE3, Rn
 
-__all__ = ["add_camera", "Calibration", "DroppedCorner", "calibrate_mono", "calibrate_rig",
-           "calibrate_stereo", "detect_corners"]
+__all__ = ["add_camera", "Calibration", "DroppedCorner", "IntrinsicsShift", "RigConsistencyWarning",
+           "SkippedView", "calibrate_mono", "calibrate_rig", "calibrate_stereo", "detect_corners"]
+
+
+def _one_blas_thread(fn: Any) -> Any:
+    """Runs a calibration's linear algebra (Zhang's SVDs, the solve, the report) on one
+    BLAS thread: its matrices are small, and threads of a busy machine's BLAS made
+    calibrate_stereo 4–6× slower under load."""
+
+    @functools.wraps(fn)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        with blas_threads.limit(1):
+            return fn(*args, **kwargs)
+
+    return call
 
 # Default k of robust=True: a corner is dropped when its error exceeds k σ̂
 # (σ̂ per image coordinate, from the median absolute error). For Gaussian
@@ -62,6 +78,28 @@ class DroppedCorner:
     view_name: str
     corner: int
     error_px: float
+
+
+@dataclass
+class SkippedView:
+    """A view a camera could not use, and why (named by its index and view name)."""
+
+    camera: str
+    view: int
+    view_name: str
+    reason: str
+
+
+def _unusable(det: tuple[np.ndarray, np.ndarray]) -> str | None:
+    """Why a detection cannot place the board (None when it can): its corners are
+    collinear in the target or in the image, so no homography exists."""
+    z, obj = det
+    for pts, where in ((obj[:, :2], "on the target"), (z, "in the image")):
+        c = pts - pts.mean(axis=0)
+        s = np.linalg.svd(c, compute_uv=False)
+        if s[0] == 0 or s[1] < 1e-6 * s[0]:
+            return f"its {len(z)} corners are collinear {where} (no homography places the board)"
+    return None
 
 
 @dataclass
@@ -100,6 +138,8 @@ class Calibration:
     view_names: list[str] = field(default_factory=list)
     world_from_ref: list[int | None] = field(default_factory=list)
     dropped: list[DroppedCorner] = field(default_factory=list)
+    skipped: list[SkippedView] = field(default_factory=list)
+    intrinsics_shift: list[Any] = field(default_factory=list)
     observations: list[_Obs] = field(default_factory=list, repr=False)
 
     def camera(self, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -111,6 +151,7 @@ class Calibration:
         E = np.concatenate([self.problem.measurement_errors(m) for ms in self.view_ids.values() for m in ms])
         return float(np.sqrt(np.mean(np.sum(E**2, axis=1))))
 
+    @_one_blas_thread
     def report(self, rescale: bool = False):
         """The :func:`boxplus.calib.report` of the solved problem; σ from the given
         corner noise unless ``rescale`` (the printed report shows both)."""
@@ -253,6 +294,7 @@ def _names(view_names: Sequence[str] | None, n: int) -> list[str]:
     return [str(v) for v in view_names]
 
 
+@_one_blas_thread
 def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray,
                    image_size: tuple[int, int], model: str = "opencv5", sigma: Any = None,
                    name: str = "camera", solve: bool = True, covariance: Any = None,
@@ -287,6 +329,7 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
     return cal
 
 
+@_one_blas_thread
 def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[np.ndarray],
                      object_points: np.ndarray, image_size: tuple[int, int],
                      model: str = "opencv5", sigma: Any = None,
@@ -350,11 +393,13 @@ def _check_detection(camera: str, i: int, det: Any, size: np.ndarray) -> tuple[n
     return z, obj
 
 
+@_one_blas_thread
 def calibrate_rig(detections: Mapping[str, Sequence[Any]],
                   image_size: tuple[int, int] | Mapping[str, tuple[int, int]],
                   model: str | Mapping[str, str] = "opencv5", sigma: Any = None,
                   covariance: Any = None, robust: float | bool | None = None,
-                  view_names: Sequence[str] | None = None, solve: bool = True) -> Calibration:
+                  view_names: Sequence[str] | None = None, solve: bool = True,
+                  known_intrinsics: Mapping[str, Any] | None = None) -> Calibration:
     """Any number of cameras with partial overlap, in one joint solve.
 
     Parameters
@@ -368,6 +413,10 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
     sigma, covariance : the corner noise (pixels), as :func:`calibrate_mono`
     robust : drop corners beyond k σ̂ and re-solve (:func:`calibrate_mono`)
     view_names : a name per view (e.g. file names) for reports and plots
+    known_intrinsics : {camera name: intrinsics vector in its model's order}, optional
+        Cameras calibrated before (e.g. a fisheye read from its own file): their
+        intrinsics are held fixed, so the rig solve estimates only the poses for them
+        (OpenCV's ``calibrateMultiview`` with ``CALIB_FIX_INTRINSIC``).
 
     Notes
     -----
@@ -378,7 +427,10 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
     pairwise poses); the reference camera's pose per view from every camera
     that saw it. Then one solve over all intrinsics, cam_from_ref and views.
     Raises ValueError when a camera is not connected to the reference through
-    shared views, naming it.
+    shared views, naming it. A view a camera cannot use (fewer than 4 corners, or
+    corners that are collinear, in the target or in the image, so that no homography
+    places the board) is left out for that camera and listed in ``skipped`` with the
+    reason, instead of ending the run.
 
     Variables: intrinsics named by the camera, ``<cam>_from_<ref>``, and
     ``world_from_<ref>_<i>`` per view (world = the board).
@@ -402,8 +454,27 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
         model_labels(models[c])  # raises for an unknown model
         if min(sizes[c]) <= 0:
             raise ValueError(f"{c}: image_size must be (width, height) > 0, got {sizes[c]}")
-    det: dict[str, list[Any]] = {c: [_check_detection(c, i, d, np.asarray(sizes[c], float))
-                                     for i, d in enumerate(detections[c])] for c in cams}
+    known = dict(known_intrinsics or {})
+    for c, k in known.items():
+        if c not in models:
+            raise ValueError(f"known_intrinsics: no camera '{c}' (cameras: {', '.join(cams)})")
+        k = np.asarray(k, dtype=float).reshape(-1)
+        if k.size != len(model_labels(models[c])) or not np.all(np.isfinite(k)):
+            raise ValueError(f"known_intrinsics of '{c}': model '{models[c]}' needs "
+                             f"{len(model_labels(models[c]))} finite numbers, got {k.size}")
+        known[c] = k
+    names = _names(view_names, nv)
+    skipped: list[SkippedView] = []
+    det: dict[str, list[Any]] = {}
+    for c in cams:
+        det[c] = []
+        for i, d in enumerate(detections[c]):
+            checked = _check_detection(c, i, d, np.asarray(sizes[c], float))
+            reason = None if checked is None else _unusable(checked)
+            if reason is not None:
+                skipped.append(SkippedView(c, i, names[i], reason))
+                checked = None
+            det[c].append(checked)
     k0: dict[str, np.ndarray] = {}
     cam_from_board: dict[str, dict[int, SE3]] = {}
     for c in cams:
@@ -413,7 +484,7 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
                              "calibrate a camera from a planar board")
         K, poses = init_camera([det[c][i][1] for i in seen], [det[c][i][0] for i in seen],
                                sizes[c], c)
-        k0[c] = intrinsics_vector(K, models[c])
+        k0[c] = known[c] if c in known else intrinsics_vector(K, models[c])
         cam_from_board[c] = dict(zip(seen, poses))
     # the camera graph: a maximum spanning tree (Prim) by shared views
     ref = cams[0]
@@ -445,16 +516,92 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
 
     def build(obs, prev=None):
         return _assemble(obs, cams, models, k0, cam_from_ref, world_from_ref, sizes, sigma,
-                         covariance, prev=prev)
+                         covariance, fixed=list(known), prev=prev)
 
     cal = build(obs)
-    cal.view_names = _names(view_names, nv)
+    cal.view_names = names
     if solve:
         cal = _solve(cal, robust, build)
         for c in cams:
             vids = [cal.world_from_ref[i] for i in sorted(set(cal.view_index[c]))]
             check_solved_views(cal.problem, [cal.ids[c]], [v for v in vids if v is not None], c)
+        if len(cams) > 1:
+            cal.intrinsics_shift = _mono_consistency(cal, [c for c in cams if c not in known])
+            for shift in cal.intrinsics_shift:
+                if shift.worst_sigmas > MONO_SHIFT_SIGMAS:
+                    warnings.warn(str(shift), RigConsistencyWarning, stacklevel=3)
+    cal.skipped = skipped
     return cal
+
+
+# A rig's intrinsics more than this many of the mono fit's σ from that fit are
+# reported (RigConsistencyWarning): the rig solve trades them for the poses.
+MONO_SHIFT_SIGMAS = 5.0
+
+
+class RigConsistencyWarning(UserWarning):
+    """The joint rig solve moved a camera's intrinsics far from its own mono fit."""
+
+
+@dataclass
+class IntrinsicsShift:
+    """How far the rig solve moved a camera's intrinsics from its mono fit: per
+    intrinsic (rig − mono) / σ_mono, and the largest |·| with its label."""
+
+    camera: str
+    labels: list[str]
+    shift_sigmas: np.ndarray
+    mono: np.ndarray
+    rig: np.ndarray
+
+    @property
+    def worst(self) -> str:
+        return self.labels[int(np.argmax(np.abs(self.shift_sigmas)))]
+
+    @property
+    def worst_sigmas(self) -> float:
+        return float(np.max(np.abs(self.shift_sigmas)))
+
+    def __str__(self) -> str:
+        i = int(np.argmax(np.abs(self.shift_sigmas)))
+        return (f"camera '{self.camera}': the rig solve moved {self.labels[i]} from "
+                f"{self.mono[i]:.6g} (its own mono fit) to {self.rig[i]:.6g}, "
+                f"{self.shift_sigmas[i]:+.1f} σ of the mono fit; the poses between the cameras "
+                f"and this camera's intrinsics disagree (a wrong model, unsynchronised views, or "
+                f"give its intrinsics as known_intrinsics)")
+
+
+def _mono_consistency(cal: Calibration, cameras: Sequence[str]) -> list[IntrinsicsShift]:
+    """Each camera's mono fit (its own views only, started at the rig's values) against the
+    rig's estimate of its intrinsics."""
+    o = cal.problem
+    out = []
+    for c in cameras:
+        obs = [ob for ob in cal.observations if ob.camera == c]
+        views = sorted({ob.view for ob in obs})
+        if len(views) < 3:
+            continue
+        c_from_ref = SE3() if c == cal.reference else o[cal.ids[f"{c}_from_{cal.reference}"]]
+        world_from_c: list[SE3 | None] = [None] * len(cal.world_from_ref)
+        for i in views:
+            v = cal.world_from_ref[i]
+            if v is not None:
+                world_from_c[i] = o[v] * c_from_ref.inverse()
+        k_rig = o[cal.ids[c]].vec
+        # the rig's corner noise, so that σ is on the same footing
+        corner_cov = o._core.noise(cal.view_ids[c][0]).covariance_matrix
+        mono = _assemble(obs, [c], {c: cal.models[c]}, {c: k_rig}, {c: SE3()}, world_from_c,
+                         {c: cal.image_size[c]}, None, corner_cov, view_prefix=f"world_from_{c}")
+        mono.problem.solve()
+        try:
+            std = mono.problem.std(mono.ids[c])
+        except ValueError:
+            continue
+        k_mono = mono.problem[mono.ids[c]].vec
+        with np.errstate(divide="ignore", invalid="ignore"):
+            shift = np.where(std > 0, (k_rig - k_mono) / std, 0.0)
+        out.append(IntrinsicsShift(c, list(CAMERA_LABELS[cal.models[c]]), shift, k_mono, k_rig))
+    return out
 
 
 def detect_corners(images: Sequence[np.ndarray], pattern_size: tuple[int, int]) -> list[np.ndarray | None]:

@@ -150,8 +150,15 @@ class Target:
                 flags=cv2.CALIB_CB_ADAPTIVE_THRESH | cv2.CALIB_CB_NORMALIZE_IMAGE)
             if not ok:
                 return None
+            # the refinement window must stay inside the squares around a corner: on a far
+            # or oblique board a fixed 15 × 15 window reaches the next corners and biases the
+            # result (3 px on a board whose squares are 10 px, rendered with known truth)
+            grid = c.reshape(self.rows, self.cols, 2)
+            step = min(np.linalg.norm(np.diff(grid, axis=0), axis=2).min(),
+                       np.linalg.norm(np.diff(grid, axis=1), axis=2).min())
+            win = int(np.clip(0.4 * step, 2, 7))
             crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 30, 0.01)
-            c = cv2.cornerSubPix(gray, c, (7, 7), (-1, -1), crit).reshape(-1, 2).astype(float)
+            c = cv2.cornerSubPix(gray, c, (win, win), (-1, -1), crit).reshape(-1, 2).astype(float)
             return self._black_first(gray, c), self.points()
         if self.kind == "charuco":
             det = cv2.aruco.CharucoDetector(self._board())
@@ -171,9 +178,22 @@ class Target:
         if not keep:
             return None
         P = self.points().reshape(n_tags, 4, 3)
-        z = np.concatenate([corners[k].reshape(4, 2) for k in keep]).astype(float)
+        z = np.concatenate([_refined(gray, corners[k].reshape(4, 2), cv2) for k in keep])
         obj = np.concatenate([P[ids.ravel()[k]] for k in keep])
         return (z, obj) if len(z) >= 4 else None
+
+
+def _refined(gray: np.ndarray, quad: np.ndarray, cv2: Any) -> np.ndarray:
+    """A tag's four corners refined by cornerSubPix in a window of a tenth of its side
+    (2–5 px): the detector's own corners sit ~0.5–0.8 px inside the tag's edges (measured
+    on images rendered through known poses, boxplus.synthetic.images), the refined ones
+    0.2–0.25 px RMS from the truth; a larger window reaches the neighbouring tags."""
+    side = float(np.mean(np.linalg.norm(quad - np.roll(quad, 1, axis=0), axis=1)))
+    win = int(np.clip(round(0.1 * side), 2, 5))
+    crit = (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER, 50, 0.001)
+    c = cv2.cornerSubPix(gray, quad.astype(np.float32).reshape(-1, 1, 2).copy(), (win, win), (-1, -1),
+                         crit)
+    return c.reshape(4, 2).astype(float)
 
 
 def parse_target(spec: str) -> Target:

@@ -49,6 +49,8 @@ class ProjectionUncertainty:
 
     def __str__(self) -> str:
         s = self.sigma[np.isfinite(self.sigma)]
+        if s.size == 0:
+            return f"projection σ of {self.camera}: no pixel of the image is in the lens' valid field"
         return (f"projection σ of {self.camera} at {self.distance:g} (board units): centre "
                 f"{self.at_center():.4f} px, median {np.median(s):.4f}, max {s.max():.4f} px "
                 f"({'intrinsics and board poses' if self.poses else 'intrinsics only'}, "
@@ -88,7 +90,13 @@ def projection_sigma(cal: Any, camera: str, pixels: np.ndarray, distance: float,
     q = np.atleast_2d(np.asarray(pixels, dtype=float))
     kid = cal.ids[camera]
     k = o[kid].vec
-    r = rays(k, q, model)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        r = rays(k, q, model)
+        # the lens model's valid field: pixels whose ray projects back onto them (outside a
+        # fisheye's image circle, or where a model folds over, there is no such ray)
+        valid = np.all(np.isfinite(r), axis=1)
+        valid[valid] &= np.linalg.norm(project(k, r[valid], model) - q[valid], axis=1) < 0.05
+    r[~valid] = [0.0, 0.0, 1.0]
     p = distance * r / np.linalg.norm(r, axis=1, keepdims=True)  # camera frame
     # the camera's pose per view: world_from_cam_i = world_from_ref_i · (cam_from_ref)⁻¹
     ref = cal.reference
@@ -113,7 +121,8 @@ def projection_sigma(cal: Any, camera: str, pixels: np.ndarray, distance: float,
 
     base_w = [o[vid] for vid in view_vars]
     columns = []
-    for j in range(len(k)):
+    free_k = not o.is_fixed(kid)  # known intrinsics held fixed have no σ to propagate
+    for j in range(len(k) if free_k else 0):
         d = np.zeros(len(k))
         d[j] = h * max(1.0, abs(k[j]))
         columns.append((predict(k + d, base_w, cam_from_ref) - predict(k - d, base_w, cam_from_ref)) / (2 * d[j]))
@@ -135,12 +144,13 @@ def projection_sigma(cal: Any, camera: str, pixels: np.ndarray, distance: float,
                             - predict(k, base_w, cam_from_ref + (-d))) / (2 * h))
     J = np.stack(columns, axis=-1)  # (M, 2, n)
     rep = cal.report(rescale=rescale)
-    S = _joint(rep, o, [kid, *view_vars, *rig_vars])
+    S = _joint(rep, o, [*([kid] if free_k else []), *view_vars, *rig_vars])
     if not np.all(np.isfinite(S)):
         raise ValueError(f"projection_uncertainty: the covariance of {camera}'s intrinsics or "
                          "poses is undetermined (see the calibration report's warnings)")
     Sq = np.einsum("mij,jk,mlk->mil", J, S, J)
     sig = np.sqrt(np.linalg.eigvalsh(Sq)[:, -1])
+    sig[~valid] = np.nan
     return sig
 
 
