@@ -13,12 +13,12 @@ export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
 .PHONY: format demo test deps venv venv-dev install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
-.PHONY: docs wheel
+.PHONY: docs wheel sanitize-ci
 
 demo: install
 	$(VPY) examples/demo.py
 
-test: cpp-test consumer-test py-test lint
+test: cpp-test consumer-test py-test lint sanitize-ci
 
 deps:
 	@bash scripts/install_deps.sh
@@ -124,6 +124,22 @@ sanitize: venv-dev
 	$(ASAN_ENV) LD_PRELOAD="$$(gcc -print-file-name=libasan.so) $$(gcc -print-file-name=libubsan.so)" \
 	    PYTHONPATH=$(CURDIR)/$(ASAN_SITE) PATH=$(CURDIR)/$(ASAN_SITE)/bin:$$PATH \
 	    $(VPY) -m pytest -q -p no:cacheprovider
+# The sanitizer part of CI (`make test`): the C++ tests and the fuzz regressions
+# (tests/data/fuzz_regressions, through boxplus-g2o) under ASan + UBSan, and the
+# tests that assemble the normal equations or solve on threads under TSan. Only
+# the C++ tests and the tool are built, at -O1, so that it fits CI's time.
+SAN_BUILD = cmake -S . -B build/$(1) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	    -DBOXPLUS_SANITIZE=$(2) -DBOXPLUS_BUILD_PYTHON=OFF "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$(ASAN_FLAGS)" \
+	    >/dev/null && cmake --build build/$(1) -j$(JOBS) --target boxplus_tests boxplus-g2o
+TSAN_TESTS := *Thread*:*Concurrent*:NormalEquations.*
+sanitize-ci: deps
+	$(call SAN_BUILD,asan-ci,address)
+	$(ASAN_ENV) OPENBLAS_NUM_THREADS=1 ./build/asan-ci/boxplus_tests --gtest_brief=1
+	bash scripts/replay_fuzz_regressions.sh build/asan-ci/boxplus-g2o
+	$(call SAN_BUILD,tsan-ci,thread)
+	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 OPENBLAS_NUM_THREADS=1 \
+	    ./build/tsan-ci/boxplus_tests --gtest_brief=1 '--gtest_filter=$(TSAN_TESTS)'
+
 # 10⁶ seeded mutations of the g2o files through the loader (and a sample through
 # boxplus-g2o); bad outcomes are kept in tests/data/fuzz_regressions/.
 fuzz: install

@@ -28,7 +28,7 @@ DEFAULT_FILE = HERE.parent / "data" / "slam" / "intel.g2o"
 def run(path: Path, init: str = "best", convention: str = "g2o", out: Path = Path("."),
         verbose: bool = True) -> dict:
     """Solves ``path``; returns the chi2 values, the summary and the output paths."""
-    start = slam.load_g2o(path, convention=convention)  # the file's estimate
+    start = slam.load_g2o(path, convention=convention, init="file")  # the file's estimate
     before = start.positions()
     graph = slam.load_g2o(path, convention=convention, init=init)
     if verbose:

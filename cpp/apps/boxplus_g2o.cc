@@ -7,18 +7,21 @@
 // Reads the file strictly (errors name the file and line), builds the
 // problem (see boxplus/slam/pose_graph.h), optionally re-initialises it,
 // solves it with Ceres and writes the result with the file's ids and order.
-// Exit codes: 0 success, 1 the solver failed, 2 bad input or usage, 130
-// interrupted (Ctrl-C: the last accepted estimate is written to -o first).
+// Exit codes: 0 success, 1 the solver failed, 2 bad input, usage or a failed
+// write (every output is written atomically: a failed write keeps the previous
+// file), 130 interrupted (Ctrl-C: the last accepted estimate is written to -o first).
 #include <dlfcn.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
 #include <string>
@@ -26,6 +29,7 @@
 #include <vector>
 
 #include "boxplus/errors.h"
+#include "boxplus/io/atomic_file.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/loss.h"
 #include "boxplus/progress.h"
@@ -67,7 +71,9 @@ options:
                          core; OPENBLAS_NUM_THREADS, when set, decides the
                          BLAS threads)
   -o, --output FILE      write the optimised graph (ids and order kept); '-' is
-                         stdout (then every other line goes to stderr)
+                         stdout (then every other line goes to stderr); written
+                         whole or not at all, never over the input unless
+      --overwrite-input  is given
   -c, --convention NAME  pose error: g2o (default; [t, vec(q)] of z⁻¹xᵢ⁻¹xⱼ, as
                          g2o's EdgeSE2/3), log (GTSAM's Pose2/Pose3 Logmap) or
                          sesync (alias chordal: SE-Sync's objective
@@ -241,6 +247,7 @@ int main(int argc, char** argv) {
   int iterations = 100, threads = 1;
   bool threads_given = false;
   bool quiet = false, full_report = false, certify = false, convention_given = false;
+  bool overwrite_input = false;
   boxplus::slam::CertifyOptions certify_options;
   boxplus::slam::LoadOptions load;
   boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
@@ -285,6 +292,8 @@ int main(int argc, char** argv) {
       threads_given = true;
     } else if (a == "-o" || a == "--output") {
       output = value();
+    } else if (a == "--overwrite-input") {
+      overwrite_input = true;
     } else if (a == "-c" || a == "--convention") {
       convention = value();
       convention_given = true;
@@ -350,6 +359,18 @@ int main(int argc, char** argv) {
   if (listed && input.empty()) return 0;
   if (input.empty()) UsageError("no input file");
   if (threads < 1) UsageError("--threads must be >= 1");
+  // A user's input is never written over without being asked: -o, --summary and
+  // --stats naming the input file (through any path, link or symlink) are refused.
+  for (const auto& [flag, path] : {std::pair<const char*, std::string>{"-o", output},
+                                   {"--summary", summary_file},
+                                   {"--stats", stats_file}}) {
+    if (!path.empty() && path != "-" && input != "-" && boxplus::io::SameFile(path, input) &&
+        !(overwrite_input && std::string(flag) == "-o")) {
+      UsageError(std::string(flag) + " '" + path + "' is the input file '" + input +
+                 "'; write elsewhere" +
+                 (std::string(flag) == "-o" ? ", or give --overwrite-input to replace it" : ""));
+    }
+  }
   const std::vector<int> gauge_ids =
       gauge.empty() ? std::vector<int>() : ParseIdList("--gauge", gauge);
   // The vocabulary's one parser each (solver_options.h, loss.h, the pose
@@ -392,9 +413,8 @@ int main(int argc, char** argv) {
     boxplus::slam::LoadReport report;
     std::unique_ptr<boxplus::slam::PoseGraph> pg;
     if (input == "-") {
-      std::string text((std::istreambuf_iterator<char>(std::cin)),
-                       std::istreambuf_iterator<char>());
-      pg = boxplus::slam::LoadPoseGraphFromText(text, shown, load, &report);
+      pg = boxplus::slam::LoadPoseGraphFromText(boxplus::io::ReadTextStream(std::cin, shown), shown,
+                                                load, &report);
     } else {
       pg = boxplus::slam::LoadPoseGraph(input, load, &report);
     }
@@ -414,23 +434,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "# initial chi2 %.10g (convention %s, init %s: start %s, solver %s)\n",
                  chi2_initial, boxplus::ToString(load.graph.convention), init.c_str(),
                  report.start.c_str(), boxplus::MethodName(so.method).c_str());
-    FILE* stats = nullptr;
-    if (!stats_file.empty()) {
-      stats = std::fopen(stats_file.c_str(), "w");
-      if (!stats) throw boxplus::Error(stats_file + ": cannot open the file for writing");
-      std::fprintf(stats, "%s\n", boxplus::ProgressHeader().c_str());
-    }
+    // The per-iteration lines of --stats, written (atomically) when the solve ends.
+    std::string stats = boxplus::ProgressHeader() + "\n";
     if (!quiet) std::fprintf(progress, "%s\n", boxplus::ProgressHeader().c_str());
-    so.on_iteration = [quiet, progress, stats](const boxplus::IterationInfo& it) {
+    so.on_iteration = [quiet, progress, &stats](const boxplus::IterationInfo& it) {
       if (!quiet) {
         std::fprintf(progress, "%s\n", boxplus::FormatProgress(it).c_str());
         std::fflush(progress);
       }
-      if (stats) std::fprintf(stats, "%s\n", boxplus::FormatProgress(it).c_str());
+      stats += boxplus::FormatProgress(it) + "\n";
       return !g_interrupted.load();
     };
     const boxplus::SolveSummary s = g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
-    if (stats) std::fclose(stats);
     boxplus::slam::CertifyResult cert;
     if (certify && !g_interrupted && s.usable) {
       certify_options.local.on_iteration = so.on_iteration;
@@ -463,32 +478,53 @@ int main(int argc, char** argv) {
     }
     std::fprintf(stderr, "# memory: peak RSS %.1f MB, %.1f MB before reading the input\n",
                  MemoryMB("VmHWM"), rss_before);
-    if (!summary_file.empty()) {
-      FILE* f = std::fopen(summary_file.c_str(), "a");
-      if (!f) throw boxplus::Error(summary_file + ": cannot open the file for appending");
-      std::fprintf(f,
-                   "file=%s vertices=%zu edges=%zu solver=%s iterations=%d chi2_initial=%.17g "
-                   "chi2_final=%.17g time_s=%.6f status=%s%s\n",
-                   shown.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
-                   boxplus::MethodName(so.method).c_str(), s.iterations, chi2_initial, pg->Chi2(),
-                   s.time_s,
-                   g_interrupted ? "interrupted"
-                   : s.usable    ? "ok"
-                                 : "failed",
-                   !certify         ? ""
-                   : cert.certified ? " certified=1"
-                                    : " certified=0");
-      std::fclose(f);
-    }
+    // Every output is written whole or not at all, and a failed write is an error
+    // naming the file (io/atomic_file.h); the graph first, the most valuable one.
+    bool write_failed = false;
+    auto write = [&](const std::function<void()>& fn) {
+      try {
+        fn();
+      } catch (const boxplus::Error& e) {
+        std::fprintf(stderr, "boxplus-g2o: %s\n", e.what());
+        write_failed = true;
+      }
+    };
     if (graph_to_stdout) {
       pg->WriteBack();
-      const std::string text = boxplus::io::FormatG2o(pg->graph());
-      std::fwrite(text.data(), 1, text.size(), stdout);
-      std::fflush(stdout);
+      write([&] {
+        boxplus::io::WriteAllOrThrow(stdout, boxplus::io::FormatG2o(pg->graph()),
+                                     "the graph to stdout");
+      });
     } else if (!output.empty()) {
-      pg->Save(output);
-      std::fprintf(stderr, "# wrote %s\n", output.c_str());
+      write([&] {
+        pg->Save(output);
+        std::fprintf(stderr, "# wrote %s\n", output.c_str());
+      });
     }
+    if (!stats_file.empty()) {
+      write([&] { boxplus::io::WriteFileAtomically(stats_file, stats); });
+    }
+    if (!summary_file.empty()) {
+      char line[2048];
+      std::snprintf(line, sizeof(line),
+                    "file=%s vertices=%zu edges=%zu solver=%s iterations=%d chi2_initial=%.17g "
+                    "chi2_final=%.17g time_s=%.6f status=%s%s\n",
+                    shown.c_str(), pg->graph().vertices.size(), pg->graph().edges.size(),
+                    boxplus::MethodName(so.method).c_str(), s.iterations, chi2_initial, pg->Chi2(),
+                    s.time_s,
+                    g_interrupted ? "interrupted"
+                    : s.usable    ? "ok"
+                                  : "failed",
+                    !certify         ? ""
+                    : cert.certified ? " certified=1"
+                                     : " certified=0");
+      write([&] { boxplus::io::AppendFileAtomically(summary_file, line); });
+    }
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      std::fprintf(stderr, "boxplus-g2o: cannot write to stdout: %s\n", std::strerror(errno));
+      write_failed = true;
+    }
+    if (write_failed) return 2;
     if (g_interrupted) {
       std::fprintf(stderr, "boxplus-g2o: interrupted: %s the last accepted estimate\n",
                    output.empty() ? "not writing (no -o)" : "wrote");

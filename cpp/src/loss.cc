@@ -5,27 +5,30 @@
 #include <cmath>
 
 #include "boxplus/errors.h"
+#include "boxplus/named_enum.h"
 
 namespace boxplus {
 
-const std::vector<std::string>& LossNames() {
-  static const std::vector<std::string> names = {"none",    "huber",  "cauchy",
-                                                 "soft_l1", "arctan", "tukey"};
+namespace {
+
+const NamedEnum<std::string>& Losses() {
+  static const NamedEnum<std::string> names("robust loss", {{"none", "none", {"", "trivial", "l2"}},
+                                                            {"huber", "huber", {}},
+                                                            {"cauchy", "cauchy", {}},
+                                                            {"soft_l1", "soft_l1", {"softl1"}},
+                                                            {"arctan", "arctan", {}},
+                                                            {"tukey", "tukey", {}}});
   return names;
 }
 
-std::string CanonicalLossName(const std::string& name) {
-  std::string n = name;
-  std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (n.empty() || n == "trivial" || n == "l2") return "none";
-  if (n == "softl1" || n == "soft-l1") return "soft_l1";
-  for (const std::string& known : LossNames()) {
-    if (n == known) return known;
-  }
-  std::string list;
-  for (const std::string& known : LossNames()) list += (list.empty() ? "" : ", ") + known;
-  throw Error("unknown robust loss '" + name + "' (expected one of " + list + ")");
+}  // namespace
+
+const std::vector<std::string>& LossNames() {
+  static const std::vector<std::string> names = Losses().Names();
+  return names;
 }
+
+std::string CanonicalLossName(const std::string& name) { return Losses().Parse(name); }
 
 std::shared_ptr<ceres::LossFunction> MakeLoss(const std::string& name, double width) {
   const std::string n = CanonicalLossName(name);

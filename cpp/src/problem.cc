@@ -351,6 +351,15 @@ SolveSummary Problem::Solve(const SolverOptions& options) {
   } else {
     out = trust_region(options);
   }
+  // The summary describes the values returned: the solvers report the cost of
+  // their last accepted step, which the stored values can differ from in the
+  // last digits (unit parts renormalised, an interrupted step) and, for extreme
+  // inputs, by more; one more evaluation settles it.
+  if (std::isfinite(out.final_cost)) {
+    double cost = 0.0;
+    ceres::Problem::EvaluateOptions eo;
+    if (CeresProblem()->Evaluate(eo, &cost, nullptr, nullptr, nullptr)) out.final_cost = cost;
+  }
   // Ceres' LM "converges" from an infinite cost (residuals too large to
   // square) to an infinite cost; say which measurement is at fault.
   std::string why;

@@ -5,57 +5,99 @@
 #include <cmath>
 
 #include "boxplus/errors.h"
+#include "boxplus/named_enum.h"
 
 namespace boxplus {
 
 namespace {
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  std::replace(s.begin(), s.end(), '-', '_');
-  return s;
-}
-}  // namespace
 
-const std::vector<std::string>& MethodNames() {
-  static const std::vector<std::string> names = {"lm", "gn", "gn_ls", "dogleg", "gn_lm"};
+const NamedEnum<Method>& Methods() {
+  static const NamedEnum<Method> names(
+      "method", {{Method::kLevenbergMarquardt, "lm", {"levenberg_marquardt"}},
+                 {Method::kGaussNewton, "gn", {"gauss_newton"}},
+                 {Method::kGaussNewtonLineSearch, "gn_ls", {"gauss_newton_line_search"}},
+                 {Method::kDogleg, "dogleg", {}},
+                 {Method::kGaussNewtonFallback, "gn_lm", {"auto"}}});
   return names;
 }
 
-Method ParseMethod(const std::string& name) {
-  const std::string n = Lower(name);
-  if (n == "lm" || n == "levenberg_marquardt") return Method::kLevenbergMarquardt;
-  if (n == "gn" || n == "gauss_newton") return Method::kGaussNewton;
-  if (n == "gn_ls" || n == "gauss_newton_line_search") return Method::kGaussNewtonLineSearch;
-  if (n == "dogleg") return Method::kDogleg;
-  if (n == "gn_lm" || n == "auto") return Method::kGaussNewtonFallback;
-  throw Error("unknown method '" + name + "' (expected lm, gn, gn_ls, dogleg or gn_lm/auto)");
+const NamedEnum<Damping>& Dampings() {
+  static const NamedEnum<Damping> names(
+      "damping", {{Damping::kMarquardt, "marquardt", {}}, {Damping::kLevenberg, "levenberg", {}}});
+  return names;
 }
 
-std::string MethodName(Method method) {
-  switch (method) {
-    case Method::kLevenbergMarquardt:
-      return "lm";
-    case Method::kGaussNewton:
-      return "gn";
-    case Method::kGaussNewtonLineSearch:
-      return "gn_ls";
-    case Method::kDogleg:
-      return "dogleg";
-    case Method::kGaussNewtonFallback:
-      return "gn_lm";
+}  // namespace
+
+const std::vector<std::string>& MethodNames() {
+  static const std::vector<std::string> names = Methods().Names();
+  return names;
+}
+
+Method ParseMethod(const std::string& name) { return Methods().Parse(name); }
+
+std::string MethodName(Method method) { return Methods().Name(method); }
+
+Damping ParseDamping(const std::string& name) { return Dampings().Parse(name); }
+
+std::string DampingName(Damping damping) { return Dampings().Name(damping); }
+
+namespace {
+
+// Each settable field: its name and how to copy it from one options to another.
+struct FieldCopy {
+  const char* name;
+  void (*copy)(const SolverOptions& from, SolverOptions* to);
+};
+
+#define BOXPLUS_FIELD(f)                                             \
+  FieldCopy {                                                        \
+#f, [](const SolverOptions& a, SolverOptions* b) { b->f = a.f; } \
   }
-  return "?";
+
+const std::vector<FieldCopy>& Fields() {
+  static const std::vector<FieldCopy> fields = {
+      BOXPLUS_FIELD(method),
+      BOXPLUS_FIELD(max_iterations),
+      BOXPLUS_FIELD(function_tolerance),
+      BOXPLUS_FIELD(gradient_tolerance),
+      BOXPLUS_FIELD(parameter_tolerance),
+      BOXPLUS_FIELD(num_threads),
+      BOXPLUS_FIELD(initial_trust_region_radius),
+      BOXPLUS_FIELD(damping),
+      BOXPLUS_FIELD(jacobi_scaling),
+      BOXPLUS_FIELD(use_nonmonotonic_steps),
+      BOXPLUS_FIELD(max_consecutive_nonmonotonic_steps),
+      BOXPLUS_FIELD(verbose),
+  };
+  return fields;
+}
+#undef BOXPLUS_FIELD
+
+}  // namespace
+
+const std::vector<std::string>& SolverOptionNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const FieldCopy& f : Fields()) n.emplace_back(f.name);
+    return n;
+  }();
+  return names;
 }
 
-Damping ParseDamping(const std::string& name) {
-  const std::string n = Lower(name);
-  if (n == "marquardt") return Damping::kMarquardt;
-  if (n == "levenberg") return Damping::kLevenberg;
-  throw Error("unknown damping '" + name + "' (expected marquardt or levenberg)");
-}
-
-std::string DampingName(Damping damping) {
-  return damping == Damping::kLevenberg ? "levenberg" : "marquardt";
+SolverOptions WithDefaults(const SolverOptions& defaults, const SolverOptions& options) {
+  if (!options.given) return options;
+  SolverOptions out = defaults;
+  for (const std::string& name : *options.given) {
+    const auto it = std::find_if(Fields().begin(), Fields().end(),
+                                 [&](const FieldCopy& f) { return name == f.name; });
+    BOXPLUS_CHECK(it != Fields().end(), "SolverOptions has no field '", name, "'");
+    it->copy(options, &out);
+  }
+  out.on_iteration = options.on_iteration;
+  out.should_stop = options.should_stop;
+  out.given = options.given;
+  return out;
 }
 
 void Validate(const SolverOptions& o) {

@@ -182,7 +182,7 @@ lifetime tied to this object; ``report`` the LoadReport.
              return pg;
            }),
            py::arg("path"), py::arg("convention") = "g2o", py::arg("robust") = "none",
-           py::arg("robust_width") = 1.0, py::arg("init") = "file", py::arg("skip_unknown") = false,
+           py::arg("robust_width") = 1.0, py::arg("init") = "best", py::arg("skip_unknown") = false,
            py::arg("repair_information") = false, py::arg("progress") = py::none(),
            "Reads a file and builds the problem (raises boxplus.ParseError naming file:line); "
            "progress(lines, bytes_read, bytes_total), if given, is called every 4096 lines of "

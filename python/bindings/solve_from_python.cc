@@ -93,6 +93,21 @@ SolveSummary SolveFromPython(Problem& p, const py::object& options, const py::ob
     }
     return false;
   };
+  // Ctrl-C within an iteration (between its linear solve and its line search):
+  // the main thread's signals only, as above.
+  if (main_thread) {
+    o.should_stop = [&slot]() {
+      if (slot.Has()) return true;
+      py::gil_scoped_acquire gil;
+      if (PyErr_CheckSignals() == 0) return false;
+      if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt)) {
+        PyErr_Clear();
+      } else {
+        slot.Store(py::error_already_set());
+      }
+      return true;
+    };
+  }
   SolveSummary s;
   try {
     py::gil_scoped_release release;

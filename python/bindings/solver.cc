@@ -10,6 +10,7 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bindings.h"
@@ -104,14 +105,21 @@ py::dict ToDict(const T& t, const std::vector<Field<T>>& fields) {
 // todict(), == and pickling from the field table. The repr shows the fields
 // named in `repr_fields` (all when empty): a record with long text fields
 // (a solve's full Ceres report) stays one line; todict() has them all.
+// `given(t, name)`, when set, records each field set by keyword or assignment
+// (SolverOptions::given: an owner's defaults fill the others).
 template <class T>
 void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<T>> fields,
                 bool writable, std::function<void(const T&)> validate,
-                std::vector<std::string> repr_fields = {}) {
+                std::vector<std::string> repr_fields = {},
+                std::function<void(T&, const std::string&)> given = nullptr) {
   auto table = std::make_shared<std::vector<Field<T>>>(std::move(fields));
-  cls.def(py::init([table, owner, validate](const py::kwargs& kw) {
+  cls.def(py::init([table, owner, validate, given](const py::kwargs& kw) {
             T t;
             Apply(t, *table, owner, kw);
+            if (given) {
+              given(t, "");
+              for (auto item : kw) given(t, std::string(py::str(item.first)));
+            }
             if (validate) validate(t);
             return t;
           }),
@@ -124,10 +132,11 @@ void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<
               .c_str());
   for (const auto& f : *table) {
     if (writable) {
-      cls.def_property(f.name.c_str(), f.get, [f, validate](T& t, py::handle v) {
+      cls.def_property(f.name.c_str(), f.get, [f, validate, given](T& t, py::handle v) {
         T candidate = t;
         f.set(candidate, v);
         if (validate) validate(candidate);
+        if (given) given(candidate, f.name);
         t = candidate;
       });
     } else {
@@ -162,12 +171,25 @@ void BindRecord(py::class_<T>& cls, const std::string& owner, std::vector<Field<
   cls.def("__copy__", [](const T& t) { return T(t); });
   cls.def(
       "__deepcopy__", [](const T& t, py::dict) { return T(t); }, py::arg("memo"));
-  cls.def(py::pickle([table](const T& t) { return ToDict(t, *table); },
-                     [table, owner](const py::dict& d) {
-                       T t;
-                       Apply(t, *table, owner, d);
-                       return t;
-                     }));
+  // The state: the fields, and (for SolverOptions) which of them were given.
+  cls.def(py::pickle(
+      [table](const T& t) {
+        py::dict d = ToDict(t, *table);
+        if constexpr (std::is_same_v<T, SolverOptions>) {
+          if (t.given) d["__given__"] = std::vector<std::string>(t.given->begin(), t.given->end());
+        }
+        return d;
+      },
+      [table, owner, given](py::dict d) {
+        T t;
+        py::object names = d.attr("pop")("__given__", py::none());
+        Apply(t, *table, owner, d);
+        if (given && !names.is_none()) {
+          given(t, "");
+          for (auto n : names) given(t, std::string(py::str(n)));
+        }
+        return t;
+      }));
 }
 
 std::vector<Field<SolverOptions>> OptionFields() {
@@ -232,11 +254,13 @@ std::vector<Field<SolveSummary>> SummaryFields() {
 
 SolverOptions MakeSolverOptions(const py::object& options, const py::dict& overrides) {
   SolverOptions o;
+  o.given.emplace();  // from Python the fields set are always known (none: every default)
   if (!options.is_none()) {
     if (!py::isinstance<SolverOptions>(options)) {
       throw py::type_error("options must be a boxplus.SolverOptions, got " + TypeName(options));
     }
     o = options.cast<SolverOptions>();
+    if (!o.given) o.given.emplace();
   }
   py::dict rest;
   for (auto item : overrides) {
@@ -252,6 +276,12 @@ SolverOptions MakeSolverOptions(const py::object& options, const py::dict& overr
   }
   static const auto fields = OptionFields();
   Apply(o, fields, "SolverOptions", rest);
+  for (auto item : rest) o.given->insert(std::string(py::str(item.first)));
+  for (auto item : overrides) {
+    if (std::string(py::str(item.first)) == "nonmonotonic_steps") {
+      o.given->insert({"use_nonmonotonic_steps", "max_consecutive_nonmonotonic_steps"});
+    }
+  }
   Validate(o);
   return o;
 }
@@ -282,8 +312,26 @@ use_nonmonotonic_steps, max_consecutive_nonmonotonic_steps
 verbose : bool
     C++ prints one line per iteration (progress_header/format_progress) to stderr.
 )doc");
-  BindRecord<SolverOptions>(options, "SolverOptions", OptionFields(), true,
-                            [](const SolverOptions& o) { Validate(o); });
+  BindRecord<SolverOptions>(
+      options, "SolverOptions", OptionFields(), true, [](const SolverOptions& o) { Validate(o); },
+      {},
+      [](SolverOptions& o, const std::string& name) {
+        if (!o.given) o.given.emplace();
+        if (name == "nonmonotonic_steps") {
+          o.given->insert({"use_nonmonotonic_steps", "max_consecutive_nonmonotonic_steps"});
+        } else if (!name.empty()) {
+          o.given->insert(name);
+        }
+      });
+  options.def_property_readonly(
+      "given",
+      [](const SolverOptions& o) {
+        return o.given ? std::vector<std::string>(o.given->begin(), o.given->end())
+                       : std::vector<std::string>();
+      },
+      "The fields set by keyword or assignment: a pose graph's solve takes these and its own "
+      "defaults for the others (boxplus.slam.SOLVER_DEFAULTS).");
+  m.def("solver_option_names", &SolverOptionNames, "The settable fields of SolverOptions.");
 
   py::class_<IterationInfo> info(m, "IterationInfo", R"doc(
 What the per-iteration callback receives (read-only).

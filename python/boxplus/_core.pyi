@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -226,6 +226,11 @@ class SolverOptions:
     def todict(self) -> dict:
         """
         The fields as a dict (keyword arguments of the constructor).
+        """
+    @property
+    def given(self) -> list[str]:
+        """
+        The fields set by keyword or assignment: a pose graph's solve takes these and its own defaults for the others (boxplus.slam.SOLVER_DEFAULTS).
         """
 class IterationInfo:
     """
@@ -1255,7 +1260,7 @@ class PoseGraph:
     underlying ``boxplus.Problem`` (extend it, fix variables, solve it), its
     lifetime tied to this object; ``report`` the LoadReport.
     """
-    def __init__(self, path: str, convention: str = 'g2o', robust: str = 'none', robust_width: typing.SupportsFloat | typing.SupportsIndex = 1.0, init: str = 'file', skip_unknown: bool = False, repair_information: bool = False, progress: typing.Any = None) -> None:
+    def __init__(self, path: str, convention: str = 'g2o', robust: str = 'none', robust_width: typing.SupportsFloat | typing.SupportsIndex = 1.0, init: str = 'best', skip_unknown: bool = False, repair_information: bool = False, progress: typing.Any = None) -> None:
         """
         Reads a file and builds the problem (raises boxplus.ParseError naming file:line); progress(lines, bytes_read, bytes_total), if given, is called every 4096 lines of the read.
         """
@@ -1525,6 +1530,10 @@ def progress_header() -> str:
 def relative_pose_factor(world_from_a: typing.SupportsInt | typing.SupportsIndex, world_from_b: typing.SupportsInt | typing.SupportsIndex, a_from_b: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, what: str = 'relative pose') -> Factor:
     """
     r = W ((world_from_a⁻¹ ∘ world_from_b) ⊟ a_from_b) on SE2 (3-dim noise) or SE3 (6-dim), tangent [δp, δθ]; see factors/pose/relative_pose.h.
+    """
+def solver_option_names() -> list[str]:
+    """
+    The settable fields of SolverOptions.
     """
 __version__: str = '0.1.0'
 pose_graph_implausible_chi2_per_dof: float = 10.0

@@ -174,6 +174,29 @@ TEST(GaussNewtonLineSearch, CallbackStopsAtAnAcceptedPoint) {
   EXPECT_LT(reported, s.initial_cost);
 }
 
+// should_stop is asked within an iteration: a stop requested after the second
+// iteration's linear solve ends the solve before that iteration's line search,
+// at the first iteration's accepted point (Ctrl-C waits for one linear solve).
+TEST(GaussNewtonLineSearch, StopWithinAnIterationKeepsTheAcceptedPoint) {
+  slam::PoseGraph pg(io::ReadG2o(kData + "smallGrid3D.g2o"));
+  SolverOptions o = LineSearch();
+  double after_first = 0.0;
+  int iterations_seen = 0, asked = 0;
+  o.on_iteration = [&](const IterationInfo& i) {
+    iterations_seen = i.iteration;
+    if (i.iteration == 1) after_first = i.cost;
+    return true;
+  };
+  o.should_stop = [&] { return iterations_seen >= 1 && ++asked >= 1; };
+  const SolveSummary s = pg.Solve(o);
+  EXPECT_EQ(s.termination, "interrupted");
+  EXPECT_TRUE(s.usable);
+  EXPECT_EQ(s.iterations, 1);
+  EXPECT_EQ(iterations_seen, 1);  // the second iteration never reported
+  EXPECT_NEAR(pg.problem().Cost(), after_first, 1e-9 * after_first);
+  EXPECT_NEAR(s.final_cost, after_first, 1e-9 * after_first);
+}
+
 // A measurement that cannot be evaluated away from the start: trial points
 // there are rejected and the estimate stays at the last evaluable point.
 struct OnlyNearZero {

@@ -209,7 +209,7 @@ def _load(path: Path) -> slam.PoseGraph:
     with warnings.catch_warnings():
         # EDGE3 without information warns (tested below); the others must not.
         warnings.simplefilter("error" if "edge3_no_information" not in path.name else "ignore")
-        return slam.load_g2o(path)
+        return slam.load_g2o(path, init="file")
 
 
 # ---- the tests -----------------------------------------------------------------------

@@ -32,8 +32,8 @@ def test_every_family_writes_files_the_strict_loader_reads(tmp_path, family, dim
     g = generate(family, dim, 400, noise="medium", seed=5)
     g.write(tmp_path / "g.g2o")
     g.write_truth(tmp_path / "t.g2o")
-    est = slam.load_g2o(tmp_path / "g.g2o")
-    tru = slam.load_g2o(tmp_path / "t.g2o")
+    est = slam.load_g2o(tmp_path / "g.g2o", init="file")
+    tru = slam.load_g2o(tmp_path / "t.g2o", init="file")
     for graph, poses in ((est, g.estimate), (tru, g.truth)):
         assert graph.dimension == dim
         assert graph.vertex_ids == list(range(400))
@@ -81,7 +81,7 @@ def test_noise_is_consistent_with_the_written_information(tmp_path, dim, convent
     d = 3 if dim == 2 else 6
     k = d * g.num_edges
     lo, hi = _chi2_band(k)
-    chi2 = slam.load_g2o(tmp_path / "t.g2o", convention=convention).chi2()
+    chi2 = slam.load_g2o(tmp_path / "t.g2o", convention=convention, init="file").chi2()
     assert lo <= chi2 <= hi, (chi2 / g.num_edges, d)
     # Per component too: the whitened errors have unit variance (numpy reference errors).
     data = read_g2o_arrays(tmp_path / "t.g2o")
@@ -95,7 +95,7 @@ def test_noise_is_consistent_with_the_written_information(tmp_path, dim, convent
         # The band is narrow enough to see the factor 4 between the two 3D rotation
         # charts (vec(q) ≈ θ/2): the other convention's chi2 falls outside it.
         other = "log" if convention == "g2o" else "g2o"
-        wrong = slam.load_g2o(tmp_path / "t.g2o", convention=other).chi2()
+        wrong = slam.load_g2o(tmp_path / "t.g2o", convention=other, init="file").chi2()
         assert not lo <= wrong <= hi
 
 
@@ -224,8 +224,8 @@ def test_command_line_writes_graph_and_truth(tmp_path, capsys):
     assert main(["--family", "sphere", "--poses", "100", "--noise", "0.1,0.05", "--seed", "3",
                  "-o", str(out)]) == 0
     truth = tmp_path / "out_truth.g2o"
-    g = slam.load_g2o(out)
-    t = slam.load_g2o(truth)
+    g = slam.load_g2o(out, init="file")
+    t = slam.load_g2o(truth, init="file")
     assert g.dimension == 3 and len(g.vertex_ids) == 100
     ref = generate("sphere", 3, 100, noise=(0.1, 0.05), seed=3)
     assert _same_poses(t.poses(), ref.truth, 3, 1e-12)

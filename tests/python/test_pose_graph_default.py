@@ -4,9 +4,14 @@ on generated families, not on one file."""
 
 from __future__ import annotations
 
+import re
+import subprocess
+from pathlib import Path
+
 import boxplus.slam as slam
 import pytest
 from boxplus.slam import generate
+from boxplus.testing import boxplus_g2o
 
 FAMILIES = [(f, d) for f in generate.FAMILIES for d in (2, 3)]
 
@@ -110,3 +115,29 @@ def test_restarts_only_for_the_default_start_and_on_request(tmp_path):
     g.restart_when_implausible = True  # no second start: the Huber one only
     s = g.solve()
     assert "from a Huber solution" in s.message and "file's estimate" not in s.message
+
+
+def test_a_field_given_as_keyword_or_in_options_solves_the_same():
+    """The pose graph's defaults are applied in C++ to every field not given, however
+    the others are given: method='lm' as a keyword, in a SolverOptions, or on the
+    command line (-s lm) solves with the same settings."""
+    import pickle
+
+    import boxplus as bp
+
+    data = Path(__file__).resolve().parents[1] / "data" / "smallGrid3D.g2o"
+    results = []
+    for kw in ({"method": "lm"}, {"options": bp.SolverOptions(method="lm")},
+               {"options": pickle.loads(pickle.dumps(bp.SolverOptions(method="lm")))}):
+        g = slam.load_g2o(data, init="file")
+        s = g.solve(**kw)
+        results.append((s.iterations, s.final_chi2, g.poses().tobytes()))
+    assert results[0] == results[1] == results[2]
+    assert bp.SolverOptions(method="lm").given == ["method"]
+    o = bp.SolverOptions()
+    o.max_iterations = 3
+    assert o.given == ["max_iterations"]
+    cli = subprocess.run([boxplus_g2o(), "-s", "lm", "--init", "file", str(data)],
+                         capture_output=True, text=True, timeout=120)
+    m = re.search(r"# final chi2 g2o convention (\S+),", cli.stderr)
+    assert m and float(m.group(1)) == pytest.approx(results[0][1], rel=1e-9)  # %.10g

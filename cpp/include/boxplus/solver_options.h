@@ -4,6 +4,8 @@
 #pragma once
 
 #include <functional>
+#include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -71,7 +73,31 @@ struct SolverOptions {
   // Called after every iteration; return false to stop early (Ctrl-C). The
   // estimate is then the last accepted one.
   std::function<bool(const IterationInfo&)> on_iteration;
+  // Asked within an iteration, between its phases (after the factorisation,
+  // before each line-search trial), by the solvers that can stop there (gn_ls
+  // and the Gauss–Newton phase of gn_lm; Ceres' trust-region methods only call
+  // on_iteration): true stops the solve with the last accepted estimate
+  // (termination "interrupted"), so Ctrl-C on a large graph waits for one
+  // linear solve, not a whole iteration.
+  std::function<bool()> should_stop;
+  // The fields the caller set, by name (SolverOptionNames()), when the caller
+  // says which (Python always does: keywords, assignments, overrides): an owner
+  // with defaults of its own (PoseGraph::Solve) takes these fields from the
+  // caller and its own defaults for the rest, so that a field given one way or
+  // another (method="lm" as a keyword or in a SolverOptions) solves the same.
+  // Unset: every field is the caller's (a C++ caller that starts from the
+  // owner's defaults, as boxplus-g2o does from slam::DefaultSolverOptions()).
+  std::optional<std::set<std::string>> given;
 };
+
+// The names of SolverOptions' settable fields (the Python attributes and
+// keywords; "given" and the callbacks are not settings).
+const std::vector<std::string>& SolverOptionNames();
+
+// `defaults` with the fields in options.given taken from `options` (and its
+// callbacks); `options` itself when it names no fields (given unset). Throws
+// boxplus::Error for a name that is not a field.
+SolverOptions WithDefaults(const SolverOptions& defaults, const SolverOptions& options);
 
 struct SolveSummary {
   double initial_cost = 0.0;

@@ -11,6 +11,8 @@
 #include "boxplus/factors/pose/unit_quaternion.h"
 #include "boxplus/io/g2o.h"
 
+#include "boxplus/io/atomic_file.h"
+
 namespace boxplus::io {
 namespace {
 
@@ -197,11 +199,7 @@ std::string FormatG2o(const Graph& g) {
 }
 
 void WriteG2o(const std::string& path, const Graph& graph) {
-  const std::string text = FormatG2o(graph);
-  std::ofstream out(path, std::ios::binary);
-  BOXPLUS_CHECK(out.good(), path, ": cannot open the file for writing");
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
-  BOXPLUS_CHECK(out.good(), path, ": writing failed");
+  WriteFileAtomically(path, FormatG2o(graph));
 }
 
 }  // namespace boxplus::io

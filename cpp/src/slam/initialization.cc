@@ -18,6 +18,7 @@
 #include "boxplus/factors/pose/chordal_relative_pose.h"
 #include "boxplus/manifolds/se2.h"
 #include "boxplus/manifolds/se3.h"
+#include "boxplus/named_enum.h"
 #include "nearest_rotation.h"
 
 namespace boxplus::slam {
@@ -180,28 +181,22 @@ std::vector<char> CheckConnected(const Graph& g, int root) {
 
 }  // namespace
 
-InitMethod ParseInitMethod(const std::string& name) {
-  if (name == "file") return InitMethod::kFile;
-  if (name == "spanning-tree" || name == "odometry") return InitMethod::kSpanningTree;
-  if (name == "chordal") return InitMethod::kChordal;
-  if (name == "best") return InitMethod::kBest;
-  throw Error("unknown initialisation '" + name +
-              "' (expected file, spanning-tree, chordal or best)");
+namespace {
+
+const NamedEnum<InitMethod>& InitMethods() {
+  static const NamedEnum<InitMethod> names(
+      "initialisation", {{InitMethod::kFile, "file", {}},
+                         {InitMethod::kSpanningTree, "spanning-tree", {"odometry"}},
+                         {InitMethod::kChordal, "chordal", {}},
+                         {InitMethod::kBest, "best", {}}});
+  return names;
 }
 
-const char* InitMethodName(InitMethod method) {
-  switch (method) {
-    case InitMethod::kFile:
-      return "file";
-    case InitMethod::kSpanningTree:
-      return "spanning-tree";
-    case InitMethod::kChordal:
-      return "chordal";
-    case InitMethod::kBest:
-      return "best";
-  }
-  return "?";
-}
+}  // namespace
+
+InitMethod ParseInitMethod(const std::string& name) { return InitMethods().Parse(name); }
+
+const char* InitMethodName(InitMethod method) { return InitMethods().Name(method).c_str(); }
 
 InitMethod Initialize(Graph* g, InitMethod method, int root_id, const StartObjective& objective,
                       std::vector<Eigen::VectorXd>* other) {

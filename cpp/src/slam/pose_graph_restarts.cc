@@ -77,7 +77,9 @@ void PoseGraph::SetValues(const std::vector<Eigen::VectorXd>& x) {
   }
 }
 
-SolveSummary PoseGraph::Solve(const SolverOptions& options) {
+SolveSummary PoseGraph::Solve(const SolverOptions& caller) {
+  // The pose graph's defaults for every field the caller did not set.
+  const SolverOptions options = WithDefaults(DefaultSolverOptions(), caller);
   const auto t0 = Clock::now();
   const bool restart = restart_when_implausible_;
   restart_when_implausible_ = false;  // only the first solve restarts

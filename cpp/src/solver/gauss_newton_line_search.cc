@@ -134,6 +134,11 @@ class GaussNewtonLineSearch {
     if (options_.on_iteration && !options_.on_iteration(info)) interrupted_ = true;
   }
 
+  bool StopRequested() {
+    if (!interrupted_ && options_.should_stop && options_.should_stop()) interrupted_ = true;
+    return interrupted_;
+  }
+
   void Finish(const char* termination, const std::string& message, bool usable) {
     summary_.termination = termination;
     summary_.message = message;
@@ -176,6 +181,7 @@ class GaussNewtonLineSearch {
       if (!SolveStep(&delta)) {
         return Finish("failure", "the normal equations could not be factorised", false);
       }
+      if (StopRequested()) return Finish("interrupted", "stopped within an iteration", true);
       const double slope = normal_.gradient().dot(delta);
       if (!(slope < 0.0)) {
         return Finish("convergence",
@@ -187,6 +193,10 @@ class GaussNewtonLineSearch {
       bool accepted = false;
       for (int h = 0; h <= kMaxHalvings; ++h, alpha *= 0.5) {
         if (h > 0) ++halvings_;
+        if (h > 0 && StopRequested()) {
+          RestoreAccepted();
+          return Finish("interrupted", "stopped within an iteration", true);
+        }
         if (Step(delta, alpha) && Evaluate(false, &trial) &&
             trial <= cost + kArmijo * alpha * slope) {
           accepted = true;

@@ -1,6 +1,7 @@
 #include "sparse_cholesky.h"
 
 #include <algorithm>
+#include <mutex>
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
@@ -55,6 +56,12 @@ void SparseCholesky::Analyse(const Matrix& H) {
     c.method[1].ordering = CHOLMOD_AMD;
     c.method[2].ordering = CHOLMOD_METIS;
     c.postorder = 1;
+    // METIS keeps its random generator in global state (GKlib's), so two analyses
+    // at once draw from one sequence and may order differently than each alone:
+    // two graphs solved on two threads differed from the serial solves in the last
+    // bits. The analyses are serialised (one per solve; the factorisations are not).
+    static std::mutex metis_mutex;
+    std::lock_guard<std::mutex> lock(metis_mutex);
     factors_->cholmod.analyzePattern(H);
   } else {
     factors_->simplicial.analyzePattern(H);

@@ -546,7 +546,7 @@ class RigConsistencyWarning(UserWarning):
 @dataclass
 class IntrinsicsShift:
     """How far the rig solve moved a camera's intrinsics from its mono fit: per
-    intrinsic (rig − mono) / σ_mono, and the largest |·| with its label."""
+    intrinsic (rig − mono) / σ_mono, and the largest absolute value with its label."""
 
     camera: str
     labels: list[str]

@@ -6,18 +6,18 @@ import logging
 import os
 import warnings
 from os import PathLike
-from typing import Any, Callable, SupportsIndex, SupportsInt, Union
+from typing import Any, Callable, SupportsIndex, SupportsInt, Union, cast
 
 import numpy as np
 
-from boxplus import _core, solver
+from boxplus import _core, blas_threads, solver
 from boxplus._core import pose_graph_implausible_chi2_per_dof as IMPLAUSIBLE_CHI2_PER_DOF
 from boxplus._core import pose_graph_solver_defaults as _solver_defaults
 from boxplus.log import LoadProgress, Progress, flush_native, log_summary, logger
 
 __all__ = ["IMPLAUSIBLE_CHI2_PER_DOF", "SOLVER_DEFAULTS", "PoseGraph", "load_g2o", "save_g2o"]
 
-PathType = Union[str, "PathLike[str]"]
+PathType = Union[str, bytes, "PathLike[str]", "PathLike[bytes]"]
 
 
 #: Solver settings used by :meth:`PoseGraph.solve` (and ``boxplus-g2o``),
@@ -121,9 +121,11 @@ class PoseGraph(_core.PoseGraph):
         tqdm). The summary is logged at INFO on the ``boxplus`` logger, each
         iteration at DEBUG (:mod:`boxplus.log`).
         """
-        if options is None:
-            overrides = {**SOLVER_DEFAULTS, **overrides}
-        total = overrides.get("max_iterations", getattr(options, "max_iterations", None))
+        # The defaults are applied in C++ (PoseGraph::Solve) to every field not given here,
+        # whether by keyword or in ``options``: method="lm" solves the same either way.
+        given = set(getattr(options, "given", ()))
+        base = options if options is not None and "max_iterations" in given else _core.SolverOptions()
+        total = overrides.get("max_iterations", base.max_iterations)
         # Per-iteration lines at DEBUG on the boxplus logger, and the bar.
         log = logger if logger.isEnabledFor(logging.DEBUG) else None
         with Progress(log=log, level=logging.DEBUG, bar=bool(progress), total=total,
@@ -147,10 +149,12 @@ class PoseGraph(_core.PoseGraph):
         return self.poses()[:, : self.dimension]
 
     def save_g2o(self, path: PathType) -> None:
-        """Writes the graph with the current estimates; ids, order and tags kept."""
-        self.save(str(path))
+        """Writes the graph with the current estimates; ids, order and tags kept. The
+        file is written atomically: a failed write keeps the previous file."""
+        native = _native_path(path, "save_g2o")
+        _named(lambda: self.save(_as_arg(native)), native)
 
-    def plot(self, path: PathType | None = None, before: np.ndarray | None = None,
+    def plot(self, path: str | os.PathLike[str] | None = None, before: np.ndarray | None = None,
              title: str = "", ax: Any = None, unit: str = "m") -> Any:
         """Plots the trajectory; returns the Figure (see :func:`boxplus.slam.plot_trajectory`)."""
         from .plot import plot_trajectory
@@ -164,7 +168,7 @@ def load_g2o(
     convention: str = "g2o",
     robust: str = "none",
     robust_width: float = 1.0,
-    init: str = "file",
+    init: str = "best",
     skip_unknown: bool = False,
     repair_information: bool = False,
     progress: Any = False,
@@ -178,15 +182,15 @@ def load_g2o(
     robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
     robust_width : float
         Kernel width on ``sqrt(eᵀΩe)``.
-    init : {'file', 'best', 'spanning-tree', 'chordal'}
-        Initial estimate: the file's (default: loading reads the file), the
-        better of the file's and the chordal one by the objective (``'best'``,
-        the start ``boxplus-g2o`` uses by default; ``report.start`` says which
-        was chosen, and when it was the chordal one a solution that is
-        implausible, χ²/dof > 10, is also sought from the file's), composition
-        along a spanning tree, or the chordal rotation relaxation followed by
-        linear translations. Files without vertices start from the spanning
-        tree where the file's estimate would be used.
+    init : {'best', 'file', 'spanning-tree', 'chordal'}
+        Initial estimate: the better of the file's and the chordal one by the
+        objective (``'best'``, the default here and in ``boxplus-g2o``;
+        ``report.start`` says which was chosen, and when it was the chordal one
+        a solution that is implausible, χ²/dof > 10, is also sought from the
+        file's), the file's as it is (``'file'``), composition along a spanning
+        tree, or the chordal rotation relaxation followed by linear
+        translations. Files without vertices start from the spanning tree where
+        the file's estimate would be used.
     skip_unknown : bool
         Skip unknown tags (counted in ``report.unknown_tags`` and a warning)
         instead of raising.
@@ -219,11 +223,17 @@ def _load(cls: type[PoseGraph], path: PathType, progress: Any, options: dict[str
     """Builds ``cls`` from a file, with a progress bar or callback, and reports
     the load on the ``boxplus`` logger (warnings also as Python warnings, at
     ``stacklevel``: the caller of the public function)."""
-    if progress is True:
-        with LoadProgress(os.path.basename(str(path))) as bar:
-            graph = cls(str(path), progress=bar, **options)
-    else:
-        graph = cls(str(path), progress=progress or None, **options)
+    native = _native_path(path, "load_g2o")
+    # The load's linear algebra (the chordal start's factorisations) on one BLAS
+    # thread, as a solve's: OpenBLAS called from two threads at once splits its work
+    # differently than from one, and concurrent loads would differ from serial ones
+    # in the last bits (boxplus.blas_threads).
+    with blas_threads.limit(1):
+        if progress is True:
+            with LoadProgress(os.path.basename(os.fsdecode(native))) as bar:
+                graph = _named(lambda: cls(_as_arg(native), progress=bar, **options), native)
+        else:
+            graph = _named(lambda: cls(_as_arg(native), progress=progress or None, **options), native)
     flush_native()
     r = graph.report
     if logger.isEnabledFor(logging.INFO):
@@ -236,6 +246,29 @@ def _load(cls: type[PoseGraph], path: PathType, progress: Any, options: dict[str
             logger.warning("%s", line)
         warnings.warn(r.warnings.strip(), stacklevel=stacklevel)
     return graph
+
+
+def _native_path(path: Any, what: str) -> bytes:
+    """The file system's bytes of a path (str, bytes or PathLike): non-UTF-8 names work."""
+    try:
+        return os.fsencode(os.fspath(path))
+    except TypeError:
+        raise TypeError(f"{what}: path must be a str, bytes or os.PathLike, got "
+                        f"{type(path).__name__}") from None
+
+
+def _as_arg(native: bytes) -> str:
+    """``native`` for a binding whose stub says ``str``: pybind's std::string takes the
+    bytes as they are, so a name that is not UTF-8 reaches the file system intact."""
+    return cast(str, native)
+
+
+def _named(call: Callable[[], Any], native: bytes) -> Any:
+    """``call()``, with an error message that names a non-UTF-8 file readably."""
+    try:
+        return call()
+    except UnicodeDecodeError:  # the C++ message held the raw bytes of the name
+        raise OSError(f"cannot read or write '{os.fsdecode(native)}'") from None
 
 
 def save_g2o(graph: PoseGraph, path: PathType) -> None:

@@ -69,6 +69,7 @@
 #pragma once
 
 #include <functional>
+#include <istream>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -207,17 +208,28 @@ struct ReadReport {
   std::string Warnings(const std::string& path) const;
 };
 
+// The longest line a reader accepts: no record comes near it (EDGE_SE3:QUAT
+// with its 21 information entries is under 1 kB); a longer line, or a NUL byte,
+// is binary data, refused at once with its line before the rest is read.
+constexpr size_t kMaxLineBytes = size_t{1} << 20;
+
 // Reads a g2o or TORO file (the tags decide; they may be mixed). Throws
 // ParseError(file, line, what) on malformed input, boxplus::Error if the file
-// cannot be opened.
+// cannot be opened. Memory is bounded by the input's structure: binary data
+// (a NUL byte, a line beyond kMaxLineBytes) in the first megabyte, or anywhere
+// in a stream (a pipe, /dev/zero), ends the read there; messages quote at most
+// 40 bytes of a field.
 Graph ReadG2o(const std::string& path, const ReadOptions& options = {},
               ReadReport* report = nullptr);
+// Reads a whole stream (standard input) as text, with the checks of ReadG2o.
+std::string ReadTextStream(std::istream& in, const std::string& name);
 // Parses text as if it were the content of a file named `name`.
 Graph ParseG2o(const std::string& text, const std::string& name, const ReadOptions& options = {},
                ReadReport* report = nullptr);
 
 // Writes the graph in its original order and tags (values with 17
 // significant digits). Throws boxplus::Error if the file cannot be written.
+// Written atomically (io/atomic_file.h): a failed write keeps the previous file.
 void WriteG2o(const std::string& path, const Graph& graph);
 std::string FormatG2o(const Graph& graph);
 

@@ -123,7 +123,9 @@ class PoseGraph {
   // and keeps the lowest objective (pose_graph_restarts.cc; summary.message
   // lists each). Iterations and time count on across the solves, and the
   // callback sees the plain objective throughout.
-  SolveSummary Solve(const SolverOptions& options = {});
+  // Fields the options name in `given` override DefaultSolverOptions(), the
+  // rest keep it (options without `given` are taken whole; solver_options.h).
+  SolveSummary Solve(const SolverOptions& options = DefaultSolverOptions());
   void set_second_start(std::vector<Eigen::VectorXd> estimates);
   bool has_second_start() const { return !second_start_.empty(); }
   void set_restart_when_implausible(bool on) { restart_when_implausible_ = on; }
