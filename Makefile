@@ -28,7 +28,7 @@ deps:
 # does not see the system's site packages: only what is listed here.
 DEMO_PKGS := "scikit-build-core>=0.10" "pybind11>=2.12" numpy matplotlib \
              "opencv-python-headless>=4.8,<5" pyyaml tqdm
-DEV_PKGS  := pytest hypothesis scipy ruff pybind11-stubgen mypy sphinx threadpoolctl \
+DEV_PKGS  := pytest hypothesis scipy ruff pybind11-stubgen mypy sphinx myst-parser threadpoolctl \
              "ray>=2.9" "dask[distributed]>=2023.1"
 
 venv: deps

@@ -23,9 +23,14 @@ extensions = [
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
+    "myst_parser",  # the guide pages (docs/guide/*.md), readable on GitHub as they are
     "boxplus_docs",  # _ext/boxplus_docs.py: command help and C++ headers from the code
 ]
 exclude_patterns = ["_build"]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+# The guide pages link to files of the repository (examples/, bench/, cpp/), which
+# are not pages of the site; those links work where the pages are read on GitHub.
+suppress_warnings = ["myst.xref_missing"]
 html_theme = "alabaster"
 html_static_path: list = []
 html_title = f"boxplus {release}"
