@@ -17,8 +17,8 @@ namespace boxplus::python {
 void RegisterCertify(py::module_& m) {
   using slam::CertifyResult;
   py::class_<CertifyResult>(m, "CertifyResult", R"doc(
-What PoseGraph.certify proved (SE-Sync's certificate, README "Certified pose
-graphs"). ``certified``: the solution is the global optimum of SE-Sync's
+What PoseGraph.certify proved (SE-Sync's certificate, docs/guide/certify.md).
+``certified``: the solution is the global optimum of SE-Sync's
 objective f up to the tolerance (f − f* ≤ tolerance·f proven);
 ``lower_bound``: a proven lower bound on the global optimum f* (−inf if none);
 ``suboptimality_bound``: f − lower_bound; ``lambda_min``: the certificate's
