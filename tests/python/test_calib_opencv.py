@@ -88,3 +88,20 @@ def test_bad_input_raises_clear_errors():
         calibrate_mono(L, obj, size, covariance=np.array([[1.0, 2.0], [2.0, 1.0]]))
     with pytest.raises(ValueError, match="13 left and 12 right"):
         calibrate_stereo(L, R[:12], obj, size)
+
+
+def test_results_convert_to_plain_json():
+    import json
+
+    obj, L, _, size = _load()
+    cal = calibrate_mono(L, obj, size, "opencv5", name="left")
+    d = json.loads(json.dumps(cal.todict()))
+    assert d["cameras"]["left"]["model"] == "opencv5"
+    assert np.allclose(d["cameras"]["left"]["K"], cal.camera("left")[0])
+    assert np.allclose(d["variables"]["left"], cal.problem[cal.ids["left"]].vec)
+    assert d["rms_px"] == cal.rms() and d["summary"]["termination"] == cal.result.termination
+    rep = cal.report()
+    r = json.loads(json.dumps(rep.todict()))
+    assert np.allclose([p["std"] for p in r["parameters"] if p["variable"] == "left"], rep.std("left"))
+    assert np.array(r["covariance"]).shape == rep.covariance.shape
+    assert r["warnings"] == rep.warnings

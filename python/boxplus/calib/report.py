@@ -63,6 +63,24 @@ class CalibrationReport:
     def value(self, variable: str) -> np.ndarray:
         return np.array([p.value for p in self.parameters if p.variable == variable])
 
+    def todict(self) -> dict:
+        """Plain Python types only (``json.dumps`` takes it): every field, the
+        parameters as {variable, label, value, std}, and the warnings."""
+        return {
+            "rms": {k: float(v) for k, v in self.rms.items()},
+            "count": {k: int(v) for k, v in self.count.items()},
+            "parameters": [{"variable": p.variable, "label": p.label, "value": float(p.value),
+                            "std": float(p.std)} for p in self.parameters],
+            "undetermined": [[float(s), list(n)] for s, n in self.undetermined],
+            "ill_conditioned": [[float(s), list(n)] for s, n in self.ill_conditioned],
+            "condition": float(self.condition),
+            "sigma_factor": float(self.sigma_factor),
+            "rescaled": bool(self.rescaled),
+            "warnings": self.warnings,
+            "covariance": np.asarray(self.covariance, dtype=float).tolist(),
+            "columns": [[int(v), int(i)] for v, i in self.columns],
+        }
+
     @property
     def warnings(self) -> list[str]:
         out = []

@@ -146,6 +146,30 @@ class Calibration:
         """(K, distortion in OpenCV's order for the camera's model) of a camera."""
         return camera_matrix(self.problem[self.ids[name]].vec, self.models.get(name, self.model))
 
+    def todict(self) -> dict[str, Any]:
+        """Plain Python types only (``json.dumps`` takes it): the model(s), the
+        reference camera, each camera's K, distortion (OpenCV's order) and image size,
+        every variable of ``ids`` as its ambient vector (poses [p, q], q = [x, y, z, w]),
+        the view names, the RMS and the solve summary."""
+        cameras = {}
+        for name in self.view_ids:
+            K, dist = self.camera(name)
+            cameras[name] = {"model": self.models.get(name, self.model),
+                             "K": np.asarray(K, dtype=float).tolist(),
+                             "distortion": np.asarray(dist, dtype=float).ravel().tolist(),
+                             "image_size": list(self.image_size.get(name, ()))}
+        return {
+            "model": self.model,
+            "reference": self.reference,
+            "cameras": cameras,
+            "variables": {k: np.asarray(self.problem[i].ambient, dtype=float).tolist()
+                          for k, i in self.ids.items()},
+            "view_names": list(self.view_names),
+            "rms_px": self.rms(),
+            "dropped_corners": len(self.dropped),
+            "summary": self.result.todict() if self.result is not None else None,
+        }
+
     def rms(self) -> float:
         """OpenCV's RMS: sqrt(Σ‖2-D error‖² / number of points), over all boards."""
         E = np.concatenate([self.problem.measurement_errors(m) for ms in self.view_ids.values() for m in ms])
