@@ -325,3 +325,20 @@ def test_bad_lines_name_the_file_line_and_what(tmp_path, text, message):
     with pytest.raises(bp.ParseError) as err:
         slam.load_g2o(path)
     assert message in str(err.value)
+
+
+def test_gtsam_landmark2_lines_load_solve_and_write_back(tmp_path):
+    # The layout of GTSAM's cityTrees_reduced_1k / victoriaPark_reduced_1k:
+    # EDGE_SE2 odometry without vertices, LANDMARK2 pose landmark x y I11 I12 I22.
+    src = Path(__file__).resolve().parents[1] / "data" / "landmark2_square.g2o"
+    graph = slam.load_g2o(src)
+    assert len(graph.poses()) == 12 and len(graph.landmarks()) == 4
+    graph.solve()
+    assert graph.chi2() < 1e-8  # exact measurements of a square loop
+    assert np.allclose(graph.landmarks()[0], [1.5, -1.0], atol=1e-6)
+    out = tmp_path / "out.g2o"
+    graph.save_g2o(out)
+    text = out.read_text()
+    assert text.count("LANDMARK2 ") == src.read_text().count("LANDMARK2 ")
+    again = slam.load_g2o(out)
+    assert again.num_edges == graph.num_edges

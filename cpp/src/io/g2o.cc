@@ -711,10 +711,13 @@ Graph ParseText(std::string_view text, const std::string& name, const ReadOption
           e.identity_information = true;
           if (rep.identity_information++ == 0) rep.first_identity_line = line;
         }
-      } else if (tag == "EDGE_SE2_XY") {
+      } else if (tag == "EDGE_SE2_XY" || tag == "LANDMARK2") {
+        // LANDMARK2 (GTSAM's example data: cityTrees, victoriaPark): the same
+        // line as EDGE_SE2_XY, pose id, landmark id, the point in the pose's
+        // frame and its information; written back as LANDMARK2.
         lp.ExpectCount(7, "i j x y I11 I12 I22");
         add_edge(EdgeKind::kSE2Point2, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
-                 false);
+                 tag == "LANDMARK2");
       } else if (tag == "EDGE_SE3_TRACKXYZ") {
         lp.ExpectCount(12, "i j offset_id x y z I(6, upper triangle)");
         const int param = lp.Id(3);

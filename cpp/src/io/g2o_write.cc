@@ -103,7 +103,7 @@ std::string FormatG2o(const Graph& g) {
             out += e.toro ? "EDGE3 " : "EDGE_SE3:QUAT ";
             break;
           case EdgeKind::kSE2Point2:
-            out += "EDGE_SE2_XY ";
+            out += e.toro ? "LANDMARK2 " : "EDGE_SE2_XY ";
             break;
           case EdgeKind::kSE3Point3:
           case EdgeKind::kSE3Point3Offset:

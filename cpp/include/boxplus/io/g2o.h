@@ -27,7 +27,11 @@
 // EDGE2 (alias EDGE) i j dx dy dθ I11 I12 I22 I33 I13 I23, VERTEX3 id x y z
 // roll pitch yaw, EDGE3 i j dx dy dz roll pitch yaw I(21) — or without I(21):
 // the identity information, as GTSAM's loader assumes (one warning per file;
-// written back without it). TORO has no landmark lines.
+// written back without it). TORO has no landmark lines; GTSAM's 2D landmark
+// files (cityTrees_reduced_1k, victoriaPark_reduced_1k) have LANDMARK2 i j x
+// y I11 I12 I22: pose i observes landmark j at (x, y) in its frame, with
+// that information, i.e. EDGE_SE2_XY (landmark ids are their own namespace),
+// written back as LANDMARK2.
 // EQUIV i j (TORO): poses i and j are the same place. TORO collapses the edge
 // between them (merges j into i through that edge, taking it as exact); here
 // both poses stay variables and EQUIV adds a tight relative-pose constraint
