@@ -50,7 +50,7 @@ EDGE_SE3_PRIOR, EDGE_PRIOR_SE2_XY, EDGE_SE3_XYZ_PRIOR, EDGE_PRIOR_XY,
 EDGE_POINTXY(Z), EDGE_POINTXYZ_PRIOR, EDGE_SE2_POINTXY_OFFSET,
 EDGE_BEARING_SE2_XY, PARAMS_SE2OFFSET, PARAMS_SE3OFFSET, FIX; --list-types)
 or TORO format (VERTEX2, EDGE2, VERTEX3, EDGE3 with or without information,
-EQUIV). The gauge is fixed by the FIX lines, else by the first pose vertex
+EQUIV), and GTSAM's LANDMARK2 landmark lines. The gauge is fixed by the FIX lines, else by the first pose vertex
 (not at all when a pose prior fixes it).
 
 options:
@@ -66,6 +66,17 @@ options:
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
                          arctan, softl1
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
+      --outlier-mode NAME
+                         wrong loop closures: auto (default: when the
+                         least-squares solution is implausible, chi2/dof > 10,
+                         judge the loop closures by graduated non-convexity
+                         with truncated least squares and return the inliers'
+                         optimum), gnc-tls or gnc-gm (always), off (never:
+                         the lowest least-squares minimum, from several starts)
+      --inlier-probability P
+                         an inlier's e'Ωe is below the P-quantile of chi2(d)
+                         (d = 3 in 2D, 6 in 3D; default 0.99)
+      --outliers FILE    write the edges judged wrong (file line, ids, e'Ωe)
   -t, --threads N        threads for the Jacobians and the factorisation's BLAS
                          (default: the Jacobians on one, the BLAS on every
                          core; OPENBLAS_NUM_THREADS, when set, decides the
@@ -219,7 +230,8 @@ void ListTypes() {
       "EDGE_PRIOR_SE2 EDGE_PRIOR_SE2_XY EDGE_PRIOR_XY EDGE_POINTXY EDGE_BEARING_SE2_XY "
       "EDGE_SE3:QUAT EDGE_SE3_TRACKXYZ EDGE_SE3_OFFSET EDGE_SE3_PRIOR EDGE_SE3_XYZ_PRIOR "
       "EDGE_POINTXYZ EDGE_POINTXYZ_PRIOR FIX\nboxplus: EDGE_SE2_BEARING_RANGE\n"
-      "TORO: VERTEX VERTEX2 EDGE EDGE2 VERTEX3 EDGE3 EQUIV\n");
+      "TORO: VERTEX VERTEX2 EDGE EDGE2 VERTEX3 EDGE3 EQUIV\n"
+      "GTSAM's example data: LANDMARK2 (= EDGE_SE2_XY)\n");
 }
 
 // CHOLMOD's supernodal factorisation runs in BLAS: --threads N gives it N
@@ -243,7 +255,8 @@ void LimitBlasThreads(int threads) {
 
 int main(int argc, char** argv) {
   std::string input, output, solver = "auto", convention = "g2o", init = "best";
-  std::string summary_file, stats_file, gauge;
+  std::string summary_file, stats_file, gauge, outliers_file, outlier_mode = "auto";
+  boxplus::slam::OutlierOptions outlier_options;
   int iterations = 100, threads = 1;
   bool threads_given = false;
   bool quiet = false, full_report = false, certify = false, convention_given = false;
@@ -285,6 +298,15 @@ int main(int argc, char** argv) {
       solver = value();
     } else if (a == "-r" || a == "--robust") {
       load.graph.robust = value();
+    } else if (a == "--outlier-mode") {
+      outlier_mode = value();
+    } else if (a == "--inlier-probability") {
+      outlier_options.inlier_probability = ParseDouble(a, value());
+      if (!(outlier_options.inlier_probability > 0 && outlier_options.inlier_probability < 1)) {
+        UsageError("--inlier-probability must be in (0, 1)");
+      }
+    } else if (a == "--outliers") {
+      outliers_file = value();
     } else if (a == "-w" || a == "--robust-width") {
       load.graph.robust_width = ParseDouble(a, value());
     } else if (a == "-t" || a == "--threads") {
@@ -363,6 +385,7 @@ int main(int argc, char** argv) {
   // --stats naming the input file (through any path, link or symlink) are refused.
   for (const auto& [flag, path] : {std::pair<const char*, std::string>{"-o", output},
                                    {"--summary", summary_file},
+                                   {"--outliers", outliers_file},
                                    {"--stats", stats_file}}) {
     if (!path.empty() && path != "-" && input != "-" && boxplus::io::SameFile(path, input) &&
         !(overwrite_input && std::string(flag) == "-o")) {
@@ -380,6 +403,7 @@ int main(int argc, char** argv) {
     boxplus::MakeLoss(load.graph.robust, load.graph.robust_width);
     load.graph.convention = boxplus::ParsePoseErrorConvention(convention);
     load.init = boxplus::slam::ParseInitMethod(init);
+    outlier_options.mode = boxplus::slam::ParseOutlierMode(outlier_mode);
   } catch (const boxplus::Error& e) {
     UsageError(e.what());
   }
@@ -424,6 +448,7 @@ int main(int argc, char** argv) {
                    shown.c_str());
     }
     if (!gauge_ids.empty()) pg->SetGauge(gauge_ids);
+    pg->set_outlier_options(outlier_options);
     std::fprintf(stderr,
                  "# %s: %zu vertices, %zu edges, %dD, gauge vertex %d, read %.3f s, "
                  "init %.3f s, build %.3f s\n",
@@ -470,7 +495,16 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "# chi2/dof %.4g (degrees of freedom: residuals - free tangent dimensions)\n",
                  per_dof);
-    if (per_dof > boxplus::slam::kImplausibleChi2PerDof && load.graph.robust == "none") {
+    const boxplus::slam::OutlierReport& judged = pg->outlier_report();
+    if (judged.ran) {
+      std::fprintf(
+          stderr,
+          "# outliers: %zu of %d loop closures judged wrong (%s, threshold e'Ωe > %.4g)%s\n",
+          judged.outliers.size(), judged.candidates, judged.method.c_str(), judged.threshold,
+          judged.outliers.empty() || !outliers_file.empty() ? "" : "; --outliers FILE lists them");
+    }
+    if (per_dof > boxplus::slam::kImplausibleChi2PerDof && load.graph.robust == "none" &&
+        !judged.ran) {
       std::fprintf(stderr,
                    "boxplus-g2o: warning: chi2/dof = %.3g is far above 1: wrong loop closures or "
                    "overconfident information matrices? A robust kernel (-r cauchy) may help\n",
@@ -499,6 +533,13 @@ int main(int argc, char** argv) {
       write([&] {
         pg->Save(output);
         std::fprintf(stderr, "# wrote %s\n", output.c_str());
+      });
+    }
+    if (!outliers_file.empty()) {
+      write([&] {
+        boxplus::io::WriteFileAtomically(outliers_file,
+                                         boxplus::slam::FormatOutliers(judged, shown));
+        std::fprintf(stderr, "# wrote %s\n", outliers_file.c_str());
       });
     }
     if (!stats_file.empty()) {

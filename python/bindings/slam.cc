@@ -131,6 +131,38 @@ What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
                r.start + "')";
       });
 
+  py::class_<slam::EdgeVerdict>(m, "EdgeVerdict",
+                                "An edge judged a wrong loop closure (boxplus::slam::EdgeVerdict).")
+      .def_readonly("edge", &slam::EdgeVerdict::edge, "Index among the graph's edges.")
+      .def_readonly("line", &slam::EdgeVerdict::line, "Line of the file (0: added in code).")
+      .def_readonly("from_id", &slam::EdgeVerdict::from)
+      .def_readonly("to_id", &slam::EdgeVerdict::to)
+      .def_readonly("weight", &slam::EdgeVerdict::weight, "GNC's last weight (0).")
+      .def_readonly("chi2", &slam::EdgeVerdict::chi2, "eᵀΩe at the returned estimate.")
+      .def("__repr__", [](const slam::EdgeVerdict& v) {
+        return "EdgeVerdict(line=" + std::to_string(v.line) +
+               ", from_id=" + std::to_string(v.from) + ", to_id=" + std::to_string(v.to) +
+               ", chi2=" + std::to_string(v.chi2) + ")";
+      });
+  py::class_<slam::OutlierReport>(m, "OutlierReport", R"doc(
+What the last solve decided about wrong loop closures
+(boxplus::slam::OutlierReport; docs/guide/slam.md "Wrong loop closures"):
+``ran`` (GNC ran), ``method`` ('gnc-tls' / 'gnc-gm'), ``threshold`` (c̄² of
+a 2D/3D pose edge: eᵀΩe above it is an outlier), ``candidates`` (loop
+closures judged), ``rounds``, ``outliers`` (EdgeVerdict list, file order).
+)doc")
+      .def_readonly("ran", &slam::OutlierReport::ran)
+      .def_readonly("method", &slam::OutlierReport::method)
+      .def_readonly("threshold", &slam::OutlierReport::threshold)
+      .def_readonly("candidates", &slam::OutlierReport::candidates)
+      .def_readonly("rounds", &slam::OutlierReport::rounds)
+      .def_readonly("outliers", &slam::OutlierReport::outliers)
+      .def("__repr__", [](const slam::OutlierReport& r) {
+        return "OutlierReport(ran=" + std::string(r.ran ? "True" : "False") + ", method='" +
+               r.method + "', outliers=" + std::to_string(r.outliers.size()) +
+               ", candidates=" + std::to_string(r.candidates) + ")";
+      });
+
   py::class_<PoseGraph>(m, "PoseGraph", R"doc(
 A pose graph read from a g2o/TORO file, as a boxplus Problem
 (boxplus::slam::PoseGraph; boxplus.slam.PoseGraph extends it).
@@ -263,9 +295,32 @@ completely first: one that raises leaves the graph unchanged.
           },
           py::arg("options") = py::none(), py::arg("callback") = py::none(),
           "Solves in place (boxplus::slam::PoseGraph::Solve: when restart_when_implausible is "
-          "on and the solution is implausible (see chi2_per_dof), also from the file's estimate "
-          "and from a Huber-kernel solution, keeping the lowest chi2); the arguments of "
-          "Problem.solve.")
+          "on and the solution is implausible (see chi2_per_dof), judges the loop closures by "
+          "GNC and returns the inliers' optimum (outlier_mode 'auto'; outlier_report says "
+          "which), or with outlier_mode 'off' also solves from the file's estimate and from a "
+          "Huber-kernel solution, keeping the lowest chi2); the arguments of Problem.solve.")
+      .def_property(
+          "outlier_mode",
+          [](const PoseGraph& pg) { return slam::OutlierModeName(pg.outlier_options().mode); },
+          [](PoseGraph& pg, const std::string& mode) {
+            slam::OutlierOptions o = pg.outlier_options();
+            o.mode = slam::ParseOutlierMode(mode);
+            pg.set_outlier_options(o);
+          },
+          "What solve() does about wrong loop closures: 'auto' (GNC-TLS when the "
+          "least-squares solution is implausible), 'gnc-tls' or 'gnc-gm' (always), 'off' "
+          "(never: the lowest least-squares minimum).")
+      .def_property(
+          "inlier_probability",
+          [](const PoseGraph& pg) { return pg.outlier_options().inlier_probability; },
+          [](PoseGraph& pg, double p) {
+            slam::OutlierOptions o = pg.outlier_options();
+            o.inlier_probability = p;
+            pg.set_outlier_options(o);
+          },
+          "GNC's inlier threshold: the quantile of χ²(d) at this probability (0.99).")
+      .def_property_readonly("outlier_report", &PoseGraph::outlier_report,
+                             py::return_value_policy::copy, "The OutlierReport of the last solve.")
       .def("chi2_per_dof", &PoseGraph::Chi2PerDof,
            "χ² / (residuals − free tangent dimensions) at the current values: ≈ 1 for a graph "
            "whose information matrices fit its errors; NaN without degrees of freedom.")

@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1250,6 +1250,66 @@ class LoadReport:
     @property
     def warnings(self) -> str:
         ...
+class EdgeVerdict:
+    """
+    An edge judged a wrong loop closure (boxplus::slam::EdgeVerdict).
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def chi2(self) -> float:
+        """
+        eᵀΩe at the returned estimate.
+        """
+    @property
+    def edge(self) -> int:
+        """
+        Index among the graph's edges.
+        """
+    @property
+    def from_id(self) -> int:
+        ...
+    @property
+    def line(self) -> int:
+        """
+        Line of the file (0: added in code).
+        """
+    @property
+    def to_id(self) -> int:
+        ...
+    @property
+    def weight(self) -> float:
+        """
+        GNC's last weight (0).
+        """
+class OutlierReport:
+    """
+    What the last solve decided about wrong loop closures
+    (boxplus::slam::OutlierReport; docs/guide/slam.md "Wrong loop closures"):
+    ``ran`` (GNC ran), ``method`` ('gnc-tls' / 'gnc-gm'), ``threshold`` (c̄² of
+    a 2D/3D pose edge: eᵀΩe above it is an outlier), ``candidates`` (loop
+    closures judged), ``rounds``, ``outliers`` (EdgeVerdict list, file order).
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def candidates(self) -> int:
+        ...
+    @property
+    def method(self) -> str:
+        ...
+    @property
+    def outliers(self) -> list[EdgeVerdict]:
+        ...
+    @property
+    def ran(self) -> bool:
+        ...
+    @property
+    def rounds(self) -> int:
+        ...
+    @property
+    def threshold(self) -> float:
+        ...
 class PoseGraph:
     """
     A pose graph read from a g2o/TORO file, as a boxplus Problem
@@ -1320,7 +1380,7 @@ class PoseGraph:
         """
     def solve(self, options: typing.Any = None, callback: typing.Any = None, **kwargs) -> SolveSummary:
         """
-        Solves in place (boxplus::slam::PoseGraph::Solve: when restart_when_implausible is on and the solution is implausible (see chi2_per_dof), also from the file's estimate and from a Huber-kernel solution, keeping the lowest chi2); the arguments of Problem.solve.
+        Solves in place (boxplus::slam::PoseGraph::Solve: when restart_when_implausible is on and the solution is implausible (see chi2_per_dof), judges the loop closures by GNC and returns the inliers' optimum (outlier_mode 'auto'; outlier_report says which), or with outlier_mode 'off' also solves from the file's estimate and from a Huber-kernel solution, keeping the lowest chi2); the arguments of Problem.solve.
         """
     def to_string(self) -> str:
         """
@@ -1349,8 +1409,29 @@ class PoseGraph:
         Whether the next solve may also start from the file's estimate.
         """
     @property
+    def inlier_probability(self) -> float:
+        """
+        GNC's inlier threshold: the quantile of χ²(d) at this probability (0.99).
+        """
+    @inlier_probability.setter
+    def inlier_probability(self, arg1: typing.SupportsFloat | typing.SupportsIndex) -> None:
+        ...
+    @property
     def num_edges(self) -> int:
         ...
+    @property
+    def outlier_mode(self) -> str:
+        """
+        What solve() does about wrong loop closures: 'auto' (GNC-TLS when the least-squares solution is implausible), 'gnc-tls' or 'gnc-gm' (always), 'off' (never: the lowest least-squares minimum).
+        """
+    @outlier_mode.setter
+    def outlier_mode(self, arg1: str) -> None:
+        ...
+    @property
+    def outlier_report(self) -> OutlierReport:
+        """
+        The OutlierReport of the last solve.
+        """
     @property
     def problem(self) -> Problem:
         """

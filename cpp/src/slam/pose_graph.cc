@@ -194,10 +194,35 @@ std::shared_ptr<const ceres::Manifold> ManifoldOf(io::VertexKind kind) {
   return nullptr;
 }
 
+// An edge's weight in a GNC copy: ρ(s) = w s, read at every evaluation so
+// that the weights change between solves without rebuilding the problem.
+class EdgeWeightLoss final : public ceres::LossFunction {
+ public:
+  explicit EdgeWeightLoss(const double* weight) : weight_(weight) {}
+  void Evaluate(double s, double rho[3]) const override {
+    rho[0] = *weight_ * s;
+    rho[1] = *weight_;
+    rho[2] = 0.0;
+  }
+
+ private:
+  const double* weight_;
+};
+
 }  // namespace
 
 PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options)
+    : PoseGraph(std::move(graph), options, false) {}
+
+PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options, Weighted)
+    : PoseGraph(std::move(graph), options, true) {}
+
+PoseGraph::PoseGraph(io::Graph graph, const PoseGraphOptions& options, bool weighted)
     : graph_(std::move(graph)), options_(options) {
+  if (weighted) {
+    edge_weights_ = std::make_unique<double[]>(std::max<size_t>(graph_.edges.size(), 1));
+    std::fill_n(edge_weights_.get(), graph_.edges.size(), 1.0);
+  }
   loss_ = MakeLoss(options_.robust, options_.robust_width);
   // Measurement k < named_edges_ is edge k of the graph: its name is derived.
   problem_.SetMeasurementNamer([this](int id) {
@@ -264,9 +289,16 @@ void PoseGraph::AddEdgeToProblem(const io::Edge& e) {
     // The cost is made here, before the noise is moved into the call below
     // (the order in which a call's arguments are evaluated is unspecified).
     auto cost = MakeEdgeCost(e, noise, options_.convention);
+    // A GNC copy weights each of the graph's edges (its own edges only).
+    std::shared_ptr<ceres::LossFunction> loss = loss_;
+    if (edge_weights_) {
+      BOXPLUS_CHECK(problem_.num_measurements() < static_cast<int>(graph_.edges.size()),
+                    "a weighted pose graph takes no edges beyond its graph's");
+      loss = std::make_shared<EdgeWeightLoss>(&edge_weights_[problem_.num_measurements()]);
+    }
     problem_.AddMeasurement(std::move(cost),
                             io::IsUnary(e.kind) ? std::vector<int>{a} : std::vector<int>{a, b},
-                            chordal ? ChordalNoise(noise) : std::move(noise), loss_,
+                            chordal ? ChordalNoise(noise) : std::move(noise), std::move(loss),
                             derived_name ? std::string() : EdgeName(e));
     if (derived_name) ++named_edges_;
   } catch (const ParseError&) {
@@ -373,13 +405,18 @@ SolverOptions DefaultSolverOptions() {
   return o;
 }
 
-double PoseGraph::Chi2PerDof() const {
+double PoseGraph::DegreesOfFreedom() const {
   long dof = 0;
   for (const io::Edge& e : graph_.edges) dof += io::ErrorSize(e.kind);
   for (const int v : var_of_vertex_) {
     if (!problem_.IsFixed(v)) dof -= problem_.manifold(v).TangentSize();
   }
-  return dof > 0 ? Chi2() / static_cast<double>(dof) : std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(dof);
+}
+
+double PoseGraph::Chi2PerDof() const {
+  const double dof = DegreesOfFreedom();
+  return dof > 0 ? Chi2() / dof : std::numeric_limits<double>::quiet_NaN();
 }
 
 double PoseGraph::Chi2(PoseErrorConvention convention) const {
@@ -391,9 +428,20 @@ double PoseGraph::Chi2(PoseErrorConvention convention) const {
   return sum;
 }
 
-void PoseGraph::WriteBack() {
-  for (size_t i = 0; i < graph_.vertices.size(); ++i) {
-    io::Vertex& v = graph_.vertices[i];
+double PoseGraph::EdgeChi2At(int k) const {
+  BOXPLUS_CHECK_INDEX(k >= 0 && k < static_cast<int>(graph_.edges.size()), "no edge at index ", k);
+  const io::Edge& e = graph_.edges[k];
+  return EdgeChi2(e, problem_.value(var_of_vertex_[graph_.EndIndex(e, 0)]),
+                  problem_.value(var_of_vertex_[graph_.EndIndex(e, 1)]), options_.convention);
+}
+
+void PoseGraph::WriteBack() { WriteBackTo(&graph_); }
+
+void PoseGraph::WriteBackTo(io::Graph* graph) const {
+  BOXPLUS_CHECK(graph->vertices.size() == var_of_vertex_.size(),
+                "WriteBackTo: ", graph->vertices.size(), " vertices for ", var_of_vertex_.size());
+  for (size_t i = 0; i < graph->vertices.size(); ++i) {
+    io::Vertex& v = graph->vertices[i];
     const double* x = problem_.value(var_of_vertex_[i]);
     std::copy(x, x + v.estimate.size(), v.estimate.data());
     v.has_estimate = true;

@@ -52,6 +52,13 @@ closures between random pose pairs (``|i − j| ≥ 2``) so that they are the
 fraction f of all loop-closure edges: ``round(f · K / (1 − f))`` of them for K
 kept closures. Their measurement is a random pose (translation uniform in
 ``[−5 step, 5 step]^d``, rotation uniform) with the inliers' information.
+With ``outlier_model='clustered'`` the wrong closures come in groups of
+``cluster_size`` between two stretches of the trajectory, ``(i + t, j + t)``,
+and agree with each other and with the odometry, as perceptual aliasing
+makes them (a corridor that looks like another): the group says the stretch
+at ``j`` lies where the map ``A = xᵢ z₀ xⱼ⁻¹`` puts it, ``z₀`` a random pose
+as above, so its edges are ``xᵢ₊ₜ⁻¹ A xⱼ₊ₜ``. A cycle test cannot reject one
+such closure by the others; only the rest of the graph can.
 
 The initial estimate written by :meth:`GeneratedGraph.write` is the odometry
 (the edges ``k → k + 1``) composed from the true first pose, as a real
@@ -323,6 +330,8 @@ def generate(
     noise: NoiseSpec = "medium",
     loop_closure_probability: float = 1.0,
     outlier_fraction: float = 0.0,
+    outlier_model: str = "random",
+    cluster_size: int = 10,
     seed: int = 0,
     convention: str = "g2o",
     step: float = 1.0,
@@ -347,6 +356,11 @@ def generate(
         Probability that each candidate loop closure is kept (the density).
     outlier_fraction : float in [0, 1)
         Fraction of the loop-closure edges that are wrong (module docstring).
+    outlier_model : {'random', 'clustered'}
+        Independent wrong closures, or groups of ``cluster_size`` mutually
+        consistent ones (module docstring).
+    cluster_size : int
+        Wrong closures per group of the 'clustered' model (≥ 1).
     seed : int
         Seed of ``numpy.random.default_rng``; the same seed gives the same file.
     convention : {'g2o', 'log'}
@@ -384,6 +398,10 @@ def generate(
         raise ValueError(f"step must be finite and positive, got {step!r}")
     p = _check_probability(loop_closure_probability, "loop_closure_probability")
     f = _check_probability(outlier_fraction, "outlier_fraction", upper_open=True)
+    if outlier_model not in ("random", "clustered"):
+        raise ValueError(f"outlier_model must be 'random' or 'clustered', got {outlier_model!r}")
+    if isinstance(cluster_size, bool) or int(cluster_size) != cluster_size or cluster_size < 1:
+        raise ValueError(f"cluster_size must be an integer ≥ 1, got {cluster_size!r}")
     n, dim = int(num_poses), int(dimension)
     sigma = noise_covariance(noise, dim)
     rot_sigma = float(np.sqrt(np.linalg.eigvalsh(sigma[dim:, dim:])[-1]))
@@ -399,20 +417,46 @@ def generate(
     closures = cand[rng.random(len(cand)) < p]
     num_out = int(round(f * len(closures) / (1.0 - f)))
     wrong = np.empty((0, 2), np.int64)
-    while len(wrong) < num_out:
-        draw = rng.integers(0, n, (num_out - len(wrong), 2))
-        draw = np.sort(draw[np.abs(draw[:, 0] - draw[:, 1]) >= 2], axis=1)
-        wrong = np.concatenate([wrong, draw])
+    alias = np.empty((0, truth.shape[1]))  # the map A of each clustered closure
+    if outlier_model == "random":
+        while len(wrong) < num_out:
+            draw = rng.integers(0, n, (num_out - len(wrong), 2))
+            draw = np.sort(draw[np.abs(draw[:, 0] - draw[:, 1]) >= 2], axis=1)
+            wrong = np.concatenate([wrong, draw])
+    else:
+        size = min(int(cluster_size), max(1, (n - 2) // 3))
+        groups: list[np.ndarray] = []
+        group_maps: list[np.ndarray] = []
+        drawn = 0
+        while drawn < num_out:
+            i, j = np.sort(rng.integers(0, n - size + 1, 2))
+            if j - i < size + 2:
+                continue
+            t = np.arange(min(size, num_out - drawn))
+            drawn += len(t)
+            groups.append(np.column_stack([i + t, j + t]))
+            z0 = _random_poses(rng, 1, dim, 5.0 * step)
+            a = se.compose(se.compose(truth[i:i + 1], z0, dim), se.inverse(truth[j:j + 1], dim),
+                           dim)
+            group_maps.append(np.repeat(a, len(t), axis=0))
+        if groups:
+            wrong, alias = np.concatenate(groups), np.concatenate(group_maps)
     odometry = np.column_stack([np.arange(n - 1), np.arange(1, n)])
     edges = np.concatenate([odometry, closures, wrong]).astype(np.int64)
     kind = np.repeat(np.array([ODOMETRY, LOOP_CLOSURE, OUTLIER], np.int8),
                      [len(odometry), len(closures), len(wrong)])
+    maps = np.zeros((len(edges), truth.shape[1]))
+    maps[len(edges) - len(alias):] = alias
     order = np.lexsort((edges[:, 0], kind, edges[:, 1]))
-    edges, kind = edges[order], kind[order]
+    edges, kind, maps = edges[order], kind[order], maps[order]
 
     relative = se.between(truth[edges[:, 0]], truth[edges[:, 1]], dim)
     out = kind == OUTLIER
-    relative[out] = _random_poses(rng, int(out.sum()), dim, 5.0 * step)
+    if outlier_model == "random":
+        relative[out] = _random_poses(rng, int(out.sum()), dim, 5.0 * step)
+    elif out.any():
+        aliased = se.compose(maps[out], truth[edges[out, 1]], dim)
+        relative[out] = se.between(truth[edges[out, 0]], aliased, dim)
     noise_draws = _draw_noise(rng, len(edges), sigma, dim, convention)
     z = se.compose(relative, se.inverse(_perturbation(noise_draws, dim, convention), dim), dim)
     z = _canonical(z, dim)
@@ -550,6 +594,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                     help="probability of keeping each loop-closure candidate (default 1)")
     ap.add_argument("--outliers", type=float, default=0.0, metavar="F",
                     help="fraction of loop closures that are wrong (default 0)")
+    ap.add_argument("--outlier-model", choices=("random", "clustered"), default="random",
+                    help="independent wrong closures, or groups that agree (perceptual aliasing)")
+    ap.add_argument("--cluster-size", type=int, default=10, metavar="K",
+                    help="wrong closures per group of the clustered model (default 10)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--convention", choices=CONVENTIONS, default="g2o")
     ap.add_argument("--step", type=float, default=1.0, help="metres between poses")
@@ -582,6 +630,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         graph = generate(a.family, dim, a.poses, noise=a.noise,
                          loop_closure_probability=a.loop_closures, outlier_fraction=a.outliers,
+                         outlier_model=a.outlier_model, cluster_size=a.cluster_size,
                          seed=a.seed, convention=a.convention, step=a.step)
     except (ValueError, TypeError) as e:
         ap.error(str(e))

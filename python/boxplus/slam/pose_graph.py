@@ -49,7 +49,12 @@ class PoseGraph(_core.PoseGraph):
     @classmethod
     def load(cls, path: PathType, progress: Any = False, **options: Any) -> PoseGraph:
         """Reads, initialises and builds a graph (:func:`load_g2o`'s keywords)."""
-        return _load(cls, path, progress, options, stacklevel=3)
+        mode = options.pop("outliers", "auto")
+        probability = options.pop("inlier_probability", 0.99)
+        graph = _load(cls, path, progress, options, stacklevel=3)
+        graph.outlier_mode = mode
+        graph.inlier_probability = probability
+        return graph
 
     # -- structure ----------------------------------------------------------
     def value(self, vertex_id: int) -> np.ndarray:
@@ -138,7 +143,18 @@ class PoseGraph(_core.PoseGraph):
             finally:
                 flush_native()
         log_summary(summary, "pose graph solve")
+        report = self.outlier_report
+        if report.ran:
+            logger.info("pose graph solve: %d of %d loop closures judged wrong (%s)",
+                        len(report.outliers), report.candidates, report.method)
         return summary
+
+    @property
+    def outliers(self) -> list[_core.EdgeVerdict]:
+        """The edges the last :meth:`solve` judged wrong loop closures (file
+        order; each with ``line``, ``from_id``, ``to_id``, ``chi2``); empty when
+        none was or the judging did not run (``outlier_report.ran``)."""
+        return list(self.outlier_report.outliers)
 
     def chi2(self, convention: str | None = None) -> float:
         """``Σ eᵀΩe`` at the current values ('g2o', 'log', 'compound' or 'sesync'; default: the graph's)."""
@@ -172,6 +188,8 @@ def load_g2o(
     skip_unknown: bool = False,
     repair_information: bool = False,
     progress: Any = False,
+    outliers: str = "auto",
+    inlier_probability: float = 0.99,
 ) -> PoseGraph:
     """Reads a g2o or TORO file and builds its problem in C++.
 
@@ -200,6 +218,15 @@ def load_g2o(
     progress : bool or callable
         True: a tqdm bar of the bytes read (nothing without tqdm); a callable:
         ``progress(lines, bytes_read, bytes_total)`` every 4096 lines.
+    outliers : {'auto', 'gnc-tls', 'gnc-gm', 'off'}
+        Wrong loop closures (:attr:`PoseGraph.outlier_mode`): 'auto' judges the
+        loop closures by graduated non-convexity when the least-squares
+        solution is implausible (χ²/dof > 10) and returns the inliers'
+        optimum; 'gnc-tls' / 'gnc-gm' always; 'off' never (the lowest
+        least-squares minimum). After :meth:`PoseGraph.solve`,
+        :attr:`PoseGraph.outliers` lists the edges judged wrong.
+    inlier_probability : float
+        An inlier's ``eᵀΩe`` is below the quantile of χ²(d) at this probability.
 
     Returns
     -------
@@ -215,7 +242,10 @@ def load_g2o(
     """
     options = dict(convention=convention, robust=robust, robust_width=robust_width, init=init,
                    skip_unknown=skip_unknown, repair_information=repair_information)
-    return _load(PoseGraph, path, progress, options, stacklevel=3)
+    graph = _load(PoseGraph, path, progress, options, stacklevel=3)
+    graph.outlier_mode = outliers
+    graph.inlier_probability = inlier_probability
+    return graph
 
 
 def _load(cls: type[PoseGraph], path: PathType, progress: Any, options: dict[str, Any],

@@ -30,6 +30,7 @@
 // solving. Save() writes the file back with the solution, ids and order kept.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -41,6 +42,7 @@
 #include "boxplus/io/g2o.h"
 #include "boxplus/problem.h"
 #include "boxplus/slam/load_report.h"
+#include "boxplus/slam/outlier_rejection.h"
 
 namespace boxplus::slam {
 
@@ -125,7 +127,19 @@ class PoseGraph {
   // callback sees the plain objective throughout.
   // Fields the options name in `given` override DefaultSolverOptions(), the
   // rest keep it (options without `given` are taken whole; solver_options.h).
+  //
+  // Wrong loop closures (outlier_rejection.h): with outlier_options().mode
+  // kAuto (the default) an implausible first solution is answered by GNC-TLS
+  // instead of the restarts above, which kOff keeps; kTls / kGm run GNC after
+  // every solve. GNC needs the graph to be the whole problem (nothing added
+  // to problem() directly) and no robust kernel; the estimate it returns is
+  // the least-squares optimum of the inliers, and summary.final_cost is ½ of
+  // their χ². outlier_report() says what it judged.
   SolveSummary Solve(const SolverOptions& options = DefaultSolverOptions());
+  void set_outlier_options(const OutlierOptions& options);
+  const OutlierOptions& outlier_options() const { return outlier_options_; }
+  // What the last Solve decided about loop closures (ran = false: nothing).
+  const OutlierReport& outlier_report() const { return outlier_report_; }
   void set_second_start(std::vector<Eigen::VectorXd> estimates);
   bool has_second_start() const { return !second_start_.empty(); }
   void set_restart_when_implausible(bool on) { restart_when_implausible_ = on; }
@@ -133,9 +147,13 @@ class PoseGraph {
   // χ² over its degrees of freedom (residuals − free tangent dimensions) at
   // the current values; NaN when there are no degrees of freedom.
   double Chi2PerDof() const;
+  // Residuals (error dimensions of the graph's edges) − free tangent dimensions.
+  double DegreesOfFreedom() const;
 
   // Σ eᵀΩe over the graph's edges at the current values (no robust loss).
   double Chi2(PoseErrorConvention convention) const;
+  // eᵀΩe of one edge (index in graph().edges) at the current values.
+  double EdgeChi2At(int edge_index) const;
   double Chi2() const { return Chi2(options_.convention); }
 
   // Copies the current values into the graph's vertex estimates.
@@ -144,6 +162,21 @@ class PoseGraph {
   void Save(const std::string& path);
 
  private:
+  // A copy for GNC whose edge k costs w[k] eᵀΩe, w = edge_weights_ (all 1
+  // at first; the caller changes them between solves).
+  struct Weighted {};
+  PoseGraph(io::Graph graph, const PoseGraphOptions& options, Weighted);
+  PoseGraph(io::Graph graph, const PoseGraphOptions& options, bool weighted);
+  std::unique_ptr<double[]> edge_weights_;
+  // Runs a solve of `problem` as a part of this Solve's one run (iterations
+  // and time counted on); `max_iterations` > 0 caps it.
+  using CountedSolve = std::function<SolveSummary(Problem& problem, int max_iterations)>;
+  SolveSummary SolveGnc(OutlierMode mode, const SolveSummary& first, const CountedSolve& solve,
+                        const bool& interrupted);
+  // Copies the current values into another graph with the same vertices.
+  void WriteBackTo(io::Graph* graph) const;
+  OutlierOptions outlier_options_;
+  OutlierReport outlier_report_;
   void AddEdgeToProblem(const io::Edge& edge);
   io::Graph graph_;
   PoseGraphOptions options_;

@@ -1,0 +1,315 @@
+"""Pose graphs with wrong loop closures: boxplus' default beside GTSAM's GNC and g2o's kernels.
+
+Each graph comes from ``boxplus.slam.generate`` with its truth: a family
+(2D/3D), a size, a fraction of wrong loop closures (0, 5, 20, 50, 80 %) and
+an outlier model ('random': independent wrong closures between random poses;
+'clustered': groups of ten that agree with each other, as perceptual aliasing
+makes them). Every system runs as a user would run it on the file, from the
+file's estimate (the odometry), one thread:
+
+* ``boxplus default``: ``boxplus-g2o FILE --outliers LIST`` with no other
+  option (auto: GNC-TLS when the least-squares solution is implausible);
+* ``inliers only``: ``boxplus-g2o`` on the same file without its wrong
+  closures: the answer an oracle front end would give, the reference;
+* ``gtsam gnc-tls`` / ``gtsam gnc-gm``: ``GncLMOptimizer`` with the odometry as
+  known inliers and the inlier thresholds at probability 0.99 (its default),
+  linear μ schedule (GTSAM's default);
+* ``g2o cauchy`` / ``g2o dcs``: g2o's Levenberg–Marquardt, 100 iterations,
+  with the Cauchy kernel (width 1) or dynamic covariance scaling (Φ = 1) on
+  the loop closures.
+
+Columns: ATE (m, RMS position error after alignment to the truth), ATE over
+the inlier-only ATE, precision and recall of the edges judged wrong (boxplus:
+the --outliers list; GTSAM: weight < ½; g2o gives no decision), time (s,
+excluding reading the file; boxplus' includes its initialisation and the
+building of the problem), and boxplus' time over GTSAM GNC-TLS's. A peer's
+run stops at a cap (``--cap`` s, default 300) and is then a miss. Rows go to a
+JSON as they come; ``--summarise JSON`` prints an earlier run's table.
+
+usage: python bench/bench_outliers.py [--set quick|full] [--only SUBSTR ...]
+        [--max-poses N] [--cap S] [--no-peers] [--json PATH] [--summarise JSON]
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from boxplus.slam import generate as gen  # noqa: E402
+from boxplus.slam.metrics import ate, outlier_scores  # noqa: E402
+
+FRACTIONS = (0.0, 0.05, 0.2, 0.5, 0.8)
+PEERS = ("gtsam gnc-tls", "gtsam gnc-gm", "g2o cauchy", "g2o dcs")
+
+
+def graph_set(name: str) -> list[dict]:
+    """The generated graphs: (family, dim, poses, noise, density) × fractions × models."""
+    if name == "quick":
+        shapes = [("manhattan", 2, 1000, "medium", 1.0), ("sphere", 3, 1000, "low", 1.0)]
+        fractions, models = (0.0, 0.2, 0.5), ("random", "clustered")
+    else:
+        shapes = [("manhattan", 2, 3000, "medium", 1.0), ("random_walk", 2, 2000, "medium", 1.0),
+                  ("grid", 2, 10000, "low", 0.3), ("sphere", 3, 2500, "low", 1.0),
+                  ("torus", 3, 1000, "medium", 1.0), ("grid", 3, 3000, "low", 0.5)]
+        fractions, models = FRACTIONS, ("random", "clustered")
+    rows = []
+    for family, dim, n, noise, density in shapes:
+        for f in fractions:
+            for model in models if f > 0 else ("random",):
+                rows.append(dict(family=family, dimension=dim, num_poses=n, noise=noise,
+                                 loop_closure_probability=density, outlier_fraction=f,
+                                 outlier_model=model, seed=1))
+    return rows
+
+
+def label(spec: dict) -> str:
+    return (f"{spec['family']}-{spec['dimension']}d-{spec['num_poses']}-"
+            f"{round(100 * spec['outlier_fraction'])}%-{spec['outlier_model']}")
+
+
+def boxplus_g2o() -> str:
+    if os.environ.get("BOXPLUS_G2O"):
+        return os.environ["BOXPLUS_G2O"]
+    for c in (HERE.parent / "build" / "cpp" / "boxplus-g2o", Path(sys.prefix) / "bin" / "boxplus-g2o"):
+        if c.exists():
+            return str(c)
+    return "boxplus-g2o"
+
+
+def read_poses(path: Path, dim: int) -> np.ndarray:
+    tag = "VERTEX_SE2" if dim == 2 else "VERTEX_SE3:QUAT"
+    rows = [ln.split() for ln in path.read_text().splitlines() if ln.startswith(tag)]
+    rows.sort(key=lambda t: int(t[1]))
+    return np.array([[float(v) for v in t[2:]] for t in rows])
+
+
+def run_boxplus(path: Path, dim: int, extra=()) -> dict:
+    with tempfile.TemporaryDirectory() as d:
+        out, listed = Path(d) / "out.g2o", Path(d) / "outliers.txt"
+        p = subprocess.run([boxplus_g2o(), "-q", "-t", "1", str(path), "-o", str(out),
+                            "--outliers", str(listed), *extra],
+                           capture_output=True, text=True, env={**os.environ,
+                                                                "OPENBLAS_NUM_THREADS": "1"})
+        if p.returncode != 0:
+            return {"failed": p.stderr[-400:]}
+        load = re.search(r"init ([0-9.]+) s, build ([0-9.]+) s", p.stderr)
+        solve = re.search(r"in \d+ iterations, ([0-9.]+) s", p.stderr)
+        seconds = float(load.group(1)) + float(load.group(2)) + float(solve.group(1))
+        pairs = [tuple(int(v) for v in ln.split()[1:3])
+                 for ln in listed.read_text().splitlines() if not ln.startswith("#")]
+        return {"poses": read_poses(out, dim), "time_s": seconds, "judged_pairs": pairs}
+
+
+# -- peers (each in its own process, so that the cap can stop it) -------------
+def _peer_main(name: str, path: str, dim: int, out: str) -> None:
+    sys.path.insert(0, str(HERE))
+    import slam_peers as sp
+
+    text = Path(path).read_text().splitlines()
+    tag = "VERTEX_SE2" if dim == 2 else "VERTEX_SE3:QUAT"
+    ids = [int(ln.split()[1]) for ln in text if ln.startswith(tag)]
+    init = read_poses(Path(path), dim)
+    data = {"dim": dim, "ids": sorted(ids)}
+    edges = [ln.split() for ln in text if ln.startswith("EDGE")]
+    sequential = np.array([abs(int(e[1]) - int(e[2])) == 1 for e in edges])
+    weights = None
+    if name.startswith("gtsam"):
+        import gtsam
+
+        graph = sp.gtsam_graph(path, dim)
+        values = sp.gtsam_values(data, init)
+        noise = gtsam.noiseModel.Isotropic.Sigma(6 if dim == 3 else 3, 1e-6)
+        first = data["ids"][0]
+        graph.add(gtsam.PriorFactorPose3(first, values.atPose3(first), noise) if dim == 3
+                  else gtsam.PriorFactorPose2(first, values.atPose2(first), noise))
+        params = gtsam.GncLMParams()
+        params.setLossType(gtsam.GncLossType.TLS if name.endswith("tls") else gtsam.GncLossType.GM)
+        params.setKnownInliers([int(k) for k in np.nonzero(sequential)[0]] + [len(edges)])
+        t0 = time.perf_counter()
+        opt = gtsam.GncLMOptimizer(graph, values, params)
+        res = opt.optimize()
+        seconds = time.perf_counter() - t0
+        weights = np.asarray(opt.getWeights())[:len(edges)]
+        poses = np.array([[*res.atPose3(i).translation(), *sp._quat_from_rot(
+            res.atPose3(i).rotation().matrix())] if dim == 3 else
+            [res.atPose2(i).x(), res.atPose2(i).y(), res.atPose2(i).theta()] for i in data["ids"]])
+    else:
+        import g2opy as g2o
+
+        opt = g2o.SparseOptimizer()
+        solver = (g2o.BlockSolverSE3(g2o.LinearSolverEigenSE3()) if dim == 3
+                  else g2o.BlockSolverSE2(g2o.LinearSolverEigenSE2()))
+        opt.set_algorithm(g2o.OptimizationAlgorithmLevenberg(solver))
+        opt.load(path)
+        opt.vertex(data["ids"][0]).set_fixed(True)
+        for e in opt.edges():
+            a, b = (v.id() for v in e.vertices())
+            if abs(a - b) != 1:
+                e.set_robust_kernel(g2o.RobustKernelCauchy(1.0) if name.endswith("cauchy")
+                                    else g2o.RobustKernelDCS(1.0))
+        t0 = time.perf_counter()
+        opt.initialize_optimization()
+        opt.optimize(100)
+        seconds = time.perf_counter() - t0
+        rows = []
+        for i in data["ids"]:
+            est = opt.vertex(i).estimate()
+            if dim == 3:
+                T = np.asarray(est.matrix())
+                rows.append([*T[:3, 3], *sp._quat_from_rot(T[:3, :3])])
+            else:
+                v = est.vector()
+                rows.append([v[0], v[1], v[2]])
+        poses = np.array(rows)
+    np.savez(out, poses=poses, time_s=seconds,
+             weights=np.array([]) if weights is None else weights)
+
+
+def run_peer(name: str, path: Path, dim: int, cap: float) -> dict:
+    with tempfile.TemporaryDirectory() as d:
+        out = Path(d) / "peer.npz"
+        try:
+            p = subprocess.run([sys.executable, __file__, "--peer", name, str(path), str(dim),
+                                str(out)], capture_output=True, text=True, timeout=cap,
+                               env={**os.environ, "OPENBLAS_NUM_THREADS": "1",
+                                    "OMP_NUM_THREADS": "1"})
+        except subprocess.TimeoutExpired:
+            return {"capped": True}
+        if p.returncode != 0 or not out.exists():
+            return {"failed": (p.stderr or "no output")[-300:]}
+        z = np.load(out)
+        return {"poses": z["poses"], "time_s": float(z["time_s"]), "weights": z["weights"]}
+
+
+# -- one graph ------------------------------------------------------------------
+def bench_graph(spec: dict, work: Path, args) -> dict:
+    g = gen.generate(**spec)
+    path = work / (label(spec) + ".g2o")
+    g.write(path)
+    wrong = g.is_outlier
+    inliers = dataclasses.replace(g, edges=g.edges[~wrong], measurements=g.measurements[~wrong],
+                                  kind=g.kind[~wrong])
+    inlier_path = work / (label(spec) + "-inliers.g2o")
+    inliers.write(inlier_path)
+    row = {"graph": label(spec), **spec, "outliers": int(wrong.sum()),
+           "closures": g.num_loop_closures}
+    ref = run_boxplus(inlier_path, g.dimension, ["--outlier-mode", "off"])
+    row["inliers only"] = {"ate": ate(ref["poses"], g.truth), "time_s": ref["time_s"]}
+    reference = row["inliers only"]["ate"]
+
+    def score(result, judged=None):
+        if "poses" not in result:
+            return {k: v for k, v in result.items() if k != "poses"}
+        a = ate(result["poses"], g.truth)
+        entry = {"ate": a, "ate_ratio": a / reference, "time_s": result["time_s"]}
+        if judged is not None:
+            entry["precision"], entry["recall"] = outlier_scores(judged, wrong)
+        return entry
+
+    bp = run_boxplus(path, g.dimension)
+    judged = None
+    if "judged_pairs" in bp:
+        listed = {}
+        for pair in bp["judged_pairs"]:
+            listed[pair] = listed.get(pair, 0) + 1
+        judged = np.zeros(len(wrong), bool)
+        for k, (a, b) in enumerate(g.edges):  # the file writes edges in this order
+            if listed.get((int(a), int(b)), 0) > 0:
+                listed[(int(a), int(b))] -= 1
+                judged[k] = True
+    row["boxplus default"] = score(bp, judged)
+    if not args.no_peers:
+        for name in PEERS:
+            r = run_peer(name, path, g.dimension, args.cap)
+            w = r.get("weights")
+            row[name] = score(r, None if w is None or len(w) == 0 else w < 0.5)
+    return row
+
+
+# -- table ----------------------------------------------------------------------
+def fmt(entry: dict | None, key: str, spec: str) -> str:
+    if not entry:
+        return "-"
+    if entry.get("capped"):
+        return "capped"
+    if "failed" in entry:
+        return "failed"
+    v = entry.get(key)
+    return "-" if v is None else format(v, spec)
+
+
+def summarise(rows: list[dict]) -> None:
+    systems = ["boxplus default"] + [p for p in PEERS if any(p in r for r in rows)]
+    print(f"{'graph':34s} {'wrong':>6s} {'inl. ATE':>8s} | " + " | ".join(
+        f"{s:>30s}" for s in systems) + " | bp/gnc-tls time")
+    print(f"{'':34s} {'':6s} {'':8s} | " + " | ".join(
+        f"{'ATE×  prec  rec   time':>30s}" for _ in systems))
+    ratios = []
+    for r in rows:
+        cells = []
+        for s in systems:
+            e = r.get(s)
+            cells.append(f"{fmt(e, 'ate_ratio', '6.3f'):>7s} {fmt(e, 'precision', '.3f'):>5s} "
+                         f"{fmt(e, 'recall', '.3f'):>5s} {fmt(e, 'time_s', '8.2f'):>8s}".rjust(30))
+        t = r.get("boxplus default", {}).get("time_s")
+        p = r.get("gtsam gnc-tls", {})
+        ratio = t / p["time_s"] if t and p.get("time_s") else None
+        if ratio:
+            ratios.append(ratio)
+        print(f"{r['graph']:34s} {r['outliers']:6d} {r['inliers only']['ate']:8.4f} | "
+              + " | ".join(cells) + f" | {'-' if ratio is None else format(ratio, '.2f')}")
+    if ratios:
+        print(f"\nboxplus time / GTSAM GNC-TLS time: median {statistics.median(ratios):.2f}, "
+              f"worst {max(ratios):.2f} over {len(ratios)} graphs")
+
+
+def main(argv=None) -> int:
+    if argv is None and len(sys.argv) > 1 and sys.argv[1] == "--peer":
+        _peer_main(sys.argv[2], sys.argv[3], int(sys.argv[4]), sys.argv[5])
+        return 0
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--set", choices=("quick", "full"), default="full")
+    ap.add_argument("--only", nargs="*", default=[])
+    ap.add_argument("--max-poses", type=int, default=None)
+    ap.add_argument("--cap", type=float, default=300.0)
+    ap.add_argument("--no-peers", action="store_true")
+    ap.add_argument("--json", type=Path, default=Path("bench_outliers.json"))
+    ap.add_argument("--summarise", type=Path)
+    args = ap.parse_args(argv)
+    if args.summarise:
+        summarise(json.loads(args.summarise.read_text()))
+        return 0
+    specs = [s for s in graph_set(args.set)
+             if (not args.only or any(o in label(s) for o in args.only))
+             and (args.max_poses is None or s["num_poses"] <= args.max_poses)]
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        try:
+            for k, spec in enumerate(specs):
+                t = time.perf_counter()
+                rows.append(bench_graph(spec, Path(d), args))
+                print(f"[{k + 1}/{len(specs)}] {label(spec)} in {time.perf_counter() - t:.1f} s",
+                      file=sys.stderr, flush=True)
+                args.json.write_text(json.dumps(rows, indent=1))
+        except KeyboardInterrupt:
+            print("interrupted: the graphs done so far", file=sys.stderr)
+    summarise(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

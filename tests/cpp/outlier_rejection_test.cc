@@ -1,0 +1,272 @@
+// Wrong loop closures (slam/outlier_rejection.h): the χ² threshold, the GNC
+// weights, and GNC on a generated two-lap trajectory against its truth and
+// against the solve of the inliers alone.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <utility>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "boxplus/slam/outlier_rejection.h"
+#include "boxplus/slam/pose_graph.h"
+
+namespace boxplus::slam {
+namespace {
+
+TEST(ChiSquaredQuantile, MatchesTables) {
+  // Tabulated quantiles (e.g. scipy.stats.chi2.ppf) to the digits given.
+  EXPECT_NEAR(ChiSquaredQuantile(1, 0.95), 3.841459, 1e-6);
+  EXPECT_NEAR(ChiSquaredQuantile(3, 0.99), 11.344867, 1e-6);
+  EXPECT_NEAR(ChiSquaredQuantile(6, 0.99), 16.811894, 1e-6);
+  EXPECT_NEAR(ChiSquaredQuantile(2, 0.5), 2 * std::log(2.0), 1e-9);  // χ²(2) is exponential
+  EXPECT_NEAR(ChiSquaredQuantile(6, 0.999), 22.457744, 1e-6);
+  EXPECT_THROW(ChiSquaredQuantile(0, 0.9), Error);
+  EXPECT_THROW(ChiSquaredQuantile(3, 1.0), Error);
+}
+
+TEST(GncWeights, TlsIsContinuousAndBinaryOutsideItsBand) {
+  for (double mu : {1e-6, 0.01, 1.0, 40.0}) {
+    const double lo = mu / (mu + 1), hi = (mu + 1) / mu;
+    EXPECT_EQ(TlsWeight(0.5 * lo, mu), 1.0);
+    EXPECT_NEAR(TlsWeight(lo * (1 + 1e-12), mu), 1.0, 1e-6) << mu;
+    EXPECT_NEAR(TlsWeight(hi * (1 - 1e-12), mu), 0.0, 1e-5) << mu;
+    EXPECT_EQ(TlsWeight(2 * hi, mu), 0.0);
+    // Non-increasing in the residual.
+    double last = 1.0;
+    for (double s = 0; s < 3 * hi; s += hi / 50) {
+      EXPECT_LE(TlsWeight(s, mu), last + 1e-15);
+      last = TlsWeight(s, mu);
+    }
+  }
+  EXPECT_EQ(TlsWeight(NAN, 1.0), 0.0);
+  EXPECT_NEAR(GmWeight(1.0, 1.0), 0.25, 1e-15);
+  EXPECT_NEAR(GmWeight(0.0, 3.0), 1.0, 1e-15);
+  EXPECT_EQ(GmWeight(NAN, 1.0), 0.0);
+}
+
+TEST(OutlierMode, OneSpellingEach) {
+  EXPECT_EQ(ParseOutlierMode("GNC"), OutlierMode::kTls);
+  EXPECT_EQ(ParseOutlierMode("gnc_gm"), OutlierMode::kGm);
+  EXPECT_EQ(ParseOutlierMode("none"), OutlierMode::kOff);
+  EXPECT_EQ(OutlierModeName(OutlierMode::kAuto), "auto");
+  EXPECT_THAT([] { ParseOutlierMode("dcs"); },
+              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("gnc-tls")));
+}
+
+// Two laps of a circle of n poses (σ 2 cm, 0.5°), a loop closure from every
+// pose of the second lap to the same place on the first, and `wrong` closures
+// between random poses with random measurements (the model of
+// boxplus.slam.generate). The file's estimate is the odometry composed.
+struct TwoLaps {
+  io::Graph graph;
+  std::vector<Eigen::Vector3d> truth;
+  std::set<std::pair<int, int>> wrong;
+};
+
+Eigen::Vector3d Between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double c = std::cos(a[2]), s = std::sin(a[2]);
+  const Eigen::Vector2d d = b.head<2>() - a.head<2>();
+  return {c * d[0] + s * d[1], -s * d[0] + c * d[1], std::remainder(b[2] - a[2], 2 * M_PI)};
+}
+
+Eigen::Vector3d Compose(const Eigen::Vector3d& a, const Eigen::Vector3d& z) {
+  const double c = std::cos(a[2]), s = std::sin(a[2]);
+  return {a[0] + c * z[0] - s * z[1], a[1] + s * z[0] + c * z[1],
+          std::remainder(a[2] + z[2], 2 * M_PI)};
+}
+
+TwoLaps MakeTwoLaps(int n, int num_wrong, unsigned seed) {
+  TwoLaps t;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  const double sigma_t = 0.02, sigma_r = 0.01;
+  for (int i = 0; i < 2 * n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    t.truth.emplace_back(10 * std::cos(a), 10 * std::sin(a),
+                         std::remainder(a + M_PI / 2, 2 * M_PI));
+  }
+  Eigen::Matrix3d info =
+      Eigen::Vector3d(1 / (sigma_t * sigma_t), 1 / (sigma_t * sigma_t), 1 / (sigma_r * sigma_r))
+          .asDiagonal();
+  int line = 0;
+  auto add_edge = [&](int a, int b, Eigen::Vector3d z) {
+    io::Edge e;
+    e.kind = io::EdgeKind::kSE2;
+    e.from = a;
+    e.to = b;
+    e.measurement = z;
+    e.information = info;
+    e.line = ++line;
+    t.graph.AddEdge(e);
+  };
+  auto noisy = [&](const Eigen::Vector3d& z) {
+    return Eigen::Vector3d(z[0] + sigma_t * g(rng), z[1] + sigma_t * g(rng),
+                           z[2] + sigma_r * g(rng));
+  };
+  std::vector<Eigen::Vector3d> odometry;
+  for (int i = 0; i + 1 < 2 * n; ++i)
+    odometry.push_back(noisy(Between(t.truth[i], t.truth[i + 1])));
+  Eigen::Vector3d x = t.truth[0];
+  for (int i = 0; i < 2 * n; ++i) {
+    io::Vertex v;
+    v.id = i;
+    v.kind = io::VertexKind::kSE2;
+    v.estimate = x;
+    v.line = ++line;
+    t.graph.AddVertex(v);
+    if (i + 1 < 2 * n) x = Compose(x, odometry[i]);
+  }
+  for (int i = 0; i + 1 < 2 * n; ++i) add_edge(i, i + 1, odometry[i]);
+  for (int i = n; i < 2 * n; i += 2) add_edge(i - n, i, noisy(Between(t.truth[i - n], t.truth[i])));
+  std::uniform_int_distribution<int> pose(0, 2 * n - 1);
+  std::uniform_real_distribution<double> u(-1, 1);
+  while (static_cast<int>(t.wrong.size()) < num_wrong) {
+    int a = pose(rng), b = pose(rng);
+    if (a > b) std::swap(a, b);
+    if (b - a < 2 || b - a == n || t.wrong.count({a, b})) continue;
+    t.wrong.insert({a, b});
+    add_edge(a, b, Eigen::Vector3d(5 * u(rng), 5 * u(rng), M_PI * u(rng)));
+  }
+  return t;
+}
+
+io::Graph WithoutWrong(const TwoLaps& t) {
+  io::Graph g = t.graph;
+  g.edges.clear();
+  for (const io::Edge& e : t.graph.edges) {
+    if (!t.wrong.count({e.from, e.to})) g.edges.push_back(e);
+  }
+  return g;
+}
+
+std::set<std::pair<int, int>> Judged(const OutlierReport& r) {
+  std::set<std::pair<int, int>> out;
+  for (const EdgeVerdict& v : r.outliers) out.insert({v.from, v.to});
+  return out;
+}
+
+double MaxDifference(PoseGraph& a, PoseGraph& b) {
+  double worst = 0;
+  for (int id : a.vertex_ids()) {
+    const Eigen::Map<const Eigen::Vector3d> x(a.problem().value(a.variable(id)));
+    const Eigen::Map<const Eigen::Vector3d> y(b.problem().value(b.variable(id)));
+    worst = std::max(worst, (x - y).cwiseAbs().maxCoeff());
+  }
+  return worst;
+}
+
+// The default (auto) answers an implausible graph by GNC-TLS: it finds
+// exactly the wrong closures here and returns the inliers' optimum.
+TEST(Gnc, AutoFindsTheWrongClosuresAndReturnsTheInliersOptimum) {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const TwoLaps t = MakeTwoLaps(120, 30, seed);  // 30 of 90 closures wrong
+    PoseGraph pg(t.graph);
+    pg.set_restart_when_implausible(true);  // what LoadPoseGraph sets for init "best"
+    const SolveSummary s = pg.Solve();
+    ASSERT_TRUE(s.usable) << s.message;
+    const OutlierReport& r = pg.outlier_report();
+    ASSERT_TRUE(r.ran) << s.message;
+    EXPECT_EQ(r.method, "gnc-tls");
+    EXPECT_EQ(r.candidates, 60 + 30);
+    EXPECT_EQ(Judged(r), t.wrong) << "seed " << seed;
+    EXPECT_THAT(s.message, ::testing::HasSubstr("30 of 90 loop closures judged wrong"));
+    for (const EdgeVerdict& v : r.outliers) {
+      EXPECT_EQ(t.graph.edges[v.edge].line, v.line);
+      EXPECT_GT(v.chi2, r.threshold);
+    }
+
+    PoseGraph inliers(WithoutWrong(t));
+    ASSERT_TRUE(inliers.Solve().usable);
+    EXPECT_LT(MaxDifference(pg, inliers), 1e-6) << "seed " << seed;
+    EXPECT_NEAR(2 * s.final_cost, inliers.Chi2(), 1e-6 * inliers.Chi2());
+  }
+}
+
+TEST(Gnc, GemanMcClureFindsThemToo) {
+  const TwoLaps t = MakeTwoLaps(120, 30, 4);
+  PoseGraph pg(t.graph);
+  OutlierOptions o;
+  o.mode = OutlierMode::kGm;
+  pg.set_outlier_options(o);
+  ASSERT_TRUE(pg.Solve().usable);
+  EXPECT_EQ(pg.outlier_report().method, "gnc-gm");
+  EXPECT_EQ(Judged(pg.outlier_report()), t.wrong);
+}
+
+// Without wrong closures the default path is the one solve it always was, and
+// forced GNC keeps every closure and ends at the same optimum.
+TEST(Gnc, APlausibleGraphIsLeftAlone) {
+  const TwoLaps t = MakeTwoLaps(120, 0, 5);
+  PoseGraph plain(t.graph);
+  plain.set_restart_when_implausible(true);
+  const SolveSummary a = plain.Solve();
+  ASSERT_TRUE(a.usable);
+  EXPECT_FALSE(plain.outlier_report().ran);
+  EXPECT_LT(plain.Chi2PerDof(), kImplausibleChi2PerDof);
+
+  OutlierOptions off;
+  off.mode = OutlierMode::kOff;
+  PoseGraph reference(t.graph);
+  reference.set_outlier_options(off);
+  reference.set_restart_when_implausible(true);
+  const SolveSummary b = reference.Solve();
+  EXPECT_EQ(a.final_cost, b.final_cost);
+  EXPECT_EQ(a.iterations, b.iterations);
+
+  PoseGraph forced(t.graph);
+  OutlierOptions tls;
+  tls.mode = OutlierMode::kTls;
+  forced.set_outlier_options(tls);
+  ASSERT_TRUE(forced.Solve().usable);
+  EXPECT_TRUE(forced.outlier_report().ran);
+  EXPECT_TRUE(forced.outlier_report().outliers.empty());
+  EXPECT_NEAR(forced.Chi2(), plain.Chi2(), 1e-6 * plain.Chi2());
+  EXPECT_LT(MaxDifference(forced, plain), 1e-6);
+}
+
+TEST(Gnc, OffKeepsTheLowestLeastSquaresMinimum) {
+  const TwoLaps t = MakeTwoLaps(120, 30, 6);
+  OutlierOptions off;
+  off.mode = OutlierMode::kOff;
+  PoseGraph pg(t.graph);
+  pg.set_outlier_options(off);
+  pg.set_restart_when_implausible(true);
+  const SolveSummary s = pg.Solve();
+  EXPECT_FALSE(pg.outlier_report().ran);
+  EXPECT_THAT(s.message, ::testing::HasSubstr("kept the lowest"));
+}
+
+TEST(Gnc, RefusesWhatItCannotJudge) {
+  const TwoLaps t = MakeTwoLaps(60, 5, 7);
+  OutlierOptions tls;
+  tls.mode = OutlierMode::kTls;
+  PoseGraphOptions cauchy;
+  cauchy.robust = "cauchy";
+  PoseGraph kernel(t.graph, cauchy);
+  kernel.set_outlier_options(tls);
+  EXPECT_THAT([&] { kernel.Solve(); },
+              ::testing::ThrowsMessage<Error>(::testing::HasSubstr("robust kernel")));
+  OutlierOptions bad;
+  bad.inlier_probability = 1.0;
+  EXPECT_THROW(kernel.set_outlier_options(bad), Error);
+}
+
+TEST(Gnc, TheOutlierFileNamesLinesAndIds) {
+  OutlierReport r;
+  r.ran = true;
+  r.method = "gnc-tls";
+  r.threshold = 11.34;
+  r.candidates = 4;
+  r.outliers.push_back({3, 17, 2, 9, 0.0, 1234.5});
+  const std::string text = FormatOutliers(r, "graph.g2o");
+  EXPECT_THAT(text, ::testing::HasSubstr("graph.g2o"));
+  EXPECT_THAT(text, ::testing::HasSubstr("1 of 4 loop closures"));
+  EXPECT_THAT(text, ::testing::EndsWith("\n17 2 9 1234.5 0\n"));
+  EXPECT_THAT(FormatOutliers(OutlierReport{}, "g"), ::testing::HasSubstr("did not run"));
+}
+
+}  // namespace
+}  // namespace boxplus::slam
