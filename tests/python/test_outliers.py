@@ -155,3 +155,15 @@ def test_command_line_lists_the_outliers(tmp_path):
     p = subprocess.run([boxplus_g2o(), "-q", str(path), "--outlier-mode", "off"],
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and "judged wrong" not in p.stderr and "far above 1" in p.stderr
+
+
+def test_certificate_is_of_the_inliers_graph(tmp_path):
+    # The estimate is the inliers' optimum, so that graph is the one certified
+    # (SE-Sync's certificate; --certify implies its convention).
+    g = gen.generate("manhattan", 2, 400, outlier_fraction=0.2, seed=9)
+    g.write(tmp_path / "g.g2o")
+    p = subprocess.run([boxplus_g2o(), "-q", "--certify", str(tmp_path / "g.g2o")],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "certificate: of the inliers' graph" in p.stderr
+    assert "certified global optimum" in p.stderr

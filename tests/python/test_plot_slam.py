@@ -87,3 +87,27 @@ def test_plotting_never_changes_the_backend(tmp_path):
     assert r.returncode == 0, r.stderr
     assert r.stdout.split() == ["svg", "Figure", "Figure"]
     assert (tmp_path / "a.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_loop_closures_judged_wrong_are_drawn_and_the_title_is_the_inliers(tmp_path):
+    from boxplus.slam import generate as gen
+
+    g = gen.generate("manhattan", 2, 300, outlier_fraction=0.2, seed=2)
+    g.write(tmp_path / "g.g2o")
+    graph = slam.load_g2o(tmp_path / "g.g2o")
+    graph.solve()
+    wrong = graph.outliers
+    assert wrong
+    fig = graph.plot(tmp_path / "g.png")
+    try:
+        (ax,) = fig.axes
+        drawn = [ln for ln in ax.get_lines() if ln.get_color() == "C3"]
+        assert len(drawn) == len(wrong)
+        assert drawn[0].get_label() == f"loop closures judged wrong ({len(wrong)})"
+        first = np.column_stack(drawn[0].get_data())
+        pos = graph.positions()
+        np.testing.assert_array_equal(first, pos[[wrong[0].from_id, wrong[0].to_id]])
+        assert ax.get_title().startswith("chi2 of the inliers = ")
+        assert (tmp_path / "g.png").stat().st_size > 0
+    finally:
+        matplotlib.pyplot.close(fig)

@@ -51,6 +51,36 @@ SolverOptions CertifyLocalSolverOptions() {
 }
 
 CertifyResult CertifyPoseGraph(PoseGraph* pg, const CertifyOptions& options) {
+  // After loop closures were judged wrong, the estimate is the optimum of the
+  // inliers' graph: that is the problem to certify (the whole graph's
+  // optimum is elsewhere), and its estimate is copied back.
+  const OutlierReport& judged = pg->outlier_report();
+  if (judged.ran && !judged.outliers.empty()) {
+    pg->WriteBack();
+    io::Graph inliers = pg->graph();
+    std::vector<char> wrong(inliers.edges.size(), 0);
+    for (const EdgeVerdict& v : judged.outliers) wrong[v.edge] = 1;
+    std::vector<io::Edge> kept;
+    for (size_t k = 0; k < inliers.edges.size(); ++k) {
+      if (!wrong[k]) kept.push_back(std::move(inliers.edges[k]));
+    }
+    inliers.edges = std::move(kept);
+    PoseGraph sub(std::move(inliers), pg->options());
+    if (pg->gauge_vertex() >= 0) sub.SetGauge({pg->gauge_vertex()});
+    OutlierOptions off = pg->outlier_options();
+    off.mode = OutlierMode::kOff;
+    sub.set_outlier_options(off);
+    CertifyResult r = CertifyPoseGraph(&sub, options);
+    for (size_t i = 0; i < pg->graph().vertices.size(); ++i) {
+      const int v = static_cast<int>(i);
+      if (!pg->problem().IsFixed(pg->variable_at(v))) {
+        pg->problem().SetValue(pg->variable_at(v), sub.problem().value(sub.variable_at(v)));
+      }
+    }
+    r.message = "of the inliers' graph (" + std::to_string(judged.outliers.size()) +
+                " loop closures judged wrong left out): " + r.message;
+    return r;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   BOXPLUS_CHECK(pg->options().robust == "none", "certificate: the graph is solved with the robust ",
                 "kernel '", pg->options().robust,

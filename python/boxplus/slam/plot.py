@@ -61,7 +61,9 @@ def plot_trajectory(
     """Plots the pose positions, optionally over ``before``, and landmarks.
 
     A 3D graph is drawn in 3D (``projection='3d'`` axes), unless ``ax`` is a
-    2D axes: then its x–y top view.
+    2D axes: then its x–y top view. The loop closures the last solve judged
+    wrong (:attr:`PoseGraph.outliers`) are drawn in red between the poses they
+    claim to join.
 
     Parameters
     ----------
@@ -74,7 +76,8 @@ def plot_trajectory(
         Positions (N, 2 or 3) before optimisation, e.g. ``graph.positions()``
         taken before :meth:`PoseGraph.solve`.
     title : str
-        The title; default ``chi2 = …`` of the current estimate.
+        The title; default ``chi2 = …`` of the current estimate (of the
+        inliers, when loop closures were judged wrong).
     ax : matplotlib Axes, optional
         Draw into these axes (2D, or 3D made with ``projection='3d'``).
     unit : str
@@ -105,6 +108,17 @@ def plot_trajectory(
     lm = graph.landmarks()
     if len(lm):
         line(lm, "+", color="C3", ms=4, label="landmarks")
+    # The loop closures the last solve judged wrong, as segments between the
+    # estimated poses they claim to join: where the front end was fooled.
+    wrong = graph.outliers
+    if wrong:
+        ids = graph.vertex_ids
+        kinds = {i: graph.vertex_kind(i) for i in ids}
+        row = {i: r for r, i in enumerate(i for i in ids if kinds[i] in ("SE2", "SE3"))}
+        for n, v in enumerate(wrong):
+            if v.from_id in row and v.to_id in row:
+                line(after[[row[v.from_id], row[v.to_id]]], "-", color="C3", lw=0.4, alpha=0.6,
+                     label=f"loop closures judged wrong ({len(wrong)})" if n == 0 else None)
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     if draw_3d:
@@ -114,6 +128,9 @@ def plot_trajectory(
     else:
         ax.set_aspect("equal", adjustable="datalim")
     ax.legend(loc="best")
+    if not title and wrong:
+        inliers = graph.chi2() - sum(v.chi2 for v in wrong)
+        title = f"chi2 of the inliers = {inliers:.6g} ({len(wrong)} loop closures left out)"
     ax.set_title(title or f"chi2 = {graph.chi2():.6g}")
     fig = ax.figure
     if path is not None:

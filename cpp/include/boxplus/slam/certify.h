@@ -13,6 +13,9 @@
 // bound on p*), so a solution that the rank-d test cannot certify still gets
 // an upper bound f − p* on its suboptimality where the staircase reached one.
 //
+// After a Solve that judged loop closures wrong (outlier_rejection.h), the
+// certificate is of the inliers' graph, whose optimum the estimate is.
+//
 // Needs: poses only, relative-pose edges only, no robust loss, at most one
 // vertex held fixed (the gauge). For another convention (g2o's, log, ...) the
 // certificate is evaluated at the solution as it is (option 1 alone): it
