@@ -91,9 +91,17 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     if (judged[k]) candidates.push_back(k);
   }
   outlier_report_.candidates = static_cast<int>(candidates.size());
+  // A quantile per error dimension (1–6) and probability, not per edge: each
+  // is a bisection on the incomplete gamma function.
+  double cached[2][7] = {};
+  auto quantile = [&](int dof, double p) {
+    double& q = cached[p == opt.keep_probability ? 1 : 0][dof];
+    if (q == 0) q = ChiSquaredQuantile(dof, p);
+    return q;
+  };
   std::vector<double> threshold(m);
   for (int k = 0; k < m; ++k) {
-    threshold[k] = ChiSquaredQuantile(io::ErrorSize(graph_.edges[k].kind), opt.inlier_probability);
+    threshold[k] = quantile(io::ErrorSize(graph_.edges[k].kind), opt.inlier_probability);
   }
 
   // GNC graduates from the estimate of the known inliers alone (the
@@ -222,8 +230,7 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
   std::vector<double> keep(m, 1.0);  // the verdict's threshold in units of c̄²
   if (opt.keep_probability > opt.inlier_probability) {
     for (int k : candidates) {
-      keep[k] = ChiSquaredQuantile(io::ErrorSize(graph_.edges[k].kind), opt.keep_probability) /
-                threshold[k];
+      keep[k] = quantile(io::ErrorSize(graph_.edges[k].kind), opt.keep_probability) / threshold[k];
     }
   }
   if (rounds > 0 && !interrupted && !stopped_by_failure) {
