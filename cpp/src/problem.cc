@@ -25,6 +25,7 @@ struct Problem::Variable {
   bool fixed = false;
   bool euclidean = false;  // Ceres gets no manifold (x ⊞ δ = x + δ)
   int num_measurements = 0;
+  std::vector<std::string> labels;  // of the tangent directions; may be empty
 };
 
 struct Problem::Measurement {
@@ -197,6 +198,7 @@ void Problem::StoreValue(int id, const double* ambient, const char* what) {
   }
   internal::NormaliseAmbient(*v.manifold, x, [&v] { return "variable '" + v.name + "'"; });
   std::copy(x, x + n, v.data.get());
+  ++generation_;
 }
 
 const std::string& Problem::variable_name(int id) const {
@@ -220,6 +222,7 @@ void Problem::SetFixed(int id, bool fixed) {
   const Busy busy(*this, "SetFixed");
   CheckVariable(id);
   vars_[id]->fixed = fixed;
+  ++generation_;
   if (id >= ceres_vars_) return;  // CeresProblem() applies it when it adds the block
   if (fixed) {
     problem_->SetParameterBlockConstant(vars_[id]->data.get());
@@ -293,6 +296,7 @@ int Problem::AddMeasurement(std::shared_ptr<ceres::CostFunction> cost, std::vect
   m.noise = std::move(noise);
   m.name = name;
   meas_.push_back(std::move(m));
+  ++generation_;
   return id;
 }
 
@@ -331,6 +335,7 @@ void Problem::AddEvaluationHook(EvaluationHook hook) {
 SolveSummary Problem::Solve(const SolverOptions& options) {
   const Busy busy(*this, "Solve");
   Validate(options);
+  ++generation_;  // the solvers write the values in place
   SolveSummary out;
   if (num_measurements() == 0) {
     out.termination = "convergence";
@@ -475,8 +480,28 @@ double Problem::Cost() {
 
 JacobianEvaluation Problem::EvaluateJacobian() {
   const Busy busy(*this, "EvaluateJacobian");
-  ceres::Problem* ceres = CeresProblem();  // before reading the residual blocks' ids
+  SparseJacobianEvaluation sparse = SparseJacobian();
   JacobianEvaluation out;
+  out.residuals = std::move(sparse.residuals);
+  out.jacobian = Eigen::MatrixXd(sparse.jacobian);
+  out.variables = std::move(sparse.variables);
+  out.column_offsets = std::move(sparse.column_offsets);
+  int rows = 0;
+  for (const Measurement& m : meas_) {
+    out.row_offsets.push_back(rows);
+    rows += m.cost->num_residuals();
+  }
+  return out;
+}
+
+SparseJacobianEvaluation Problem::EvaluateSparseJacobian() {
+  const Busy busy(*this, "EvaluateSparseJacobian");
+  return SparseJacobian();
+}
+
+SparseJacobianEvaluation Problem::SparseJacobian() {
+  ceres::Problem* ceres = CeresProblem();
+  SparseJacobianEvaluation out;
   ceres::Problem::EvaluateOptions eo;
   int cols = 0;
   for (int v = 0; v < num_variables(); ++v) {
@@ -488,27 +513,65 @@ JacobianEvaluation Problem::EvaluateJacobian() {
   }
   int rows = 0;
   for (const Measurement& m : meas_) {
-    out.row_offsets.push_back(rows);
     rows += m.cost->num_residuals();
     eo.residual_blocks.push_back(m.block);
   }
+  out.jacobian.resize(rows, cols);
   out.residuals.setZero(rows);
-  out.jacobian.setZero(rows, cols);
   if (rows == 0 || cols == 0) return out;
   double cost = 0.0;
-  std::vector<double> residuals;
   ceres::CRSMatrix crs;
+  std::vector<double> residuals;
   if (!ceres->Evaluate(eo, &cost, &residuals, nullptr, &crs)) {
     throw ::boxplus::Error("evaluating the Jacobian failed; " + FirstNonFiniteMeasurement());
   }
   BOXPLUS_CHECK(crs.num_rows == rows && crs.num_cols == cols, "Jacobian has an unexpected shape");
-  out.residuals = Eigen::Map<Eigen::VectorXd>(residuals.data(), rows);
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(crs.values.size());
   for (int r = 0; r < rows; ++r) {
     for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) {
-      out.jacobian(r, crs.cols[k]) = crs.values[k];
+      entries.emplace_back(r, crs.cols[k], crs.values[k]);
     }
   }
+  out.jacobian.setFromTriplets(entries.begin(), entries.end());
+  out.residuals = Eigen::Map<Eigen::VectorXd>(residuals.data(), rows);
   return out;
+}
+
+const Determinedness& Problem::CheckDetermined(const DeterminednessOptions& options) {
+  const Busy busy(*this, "CheckDetermined");
+  return Determine(options);
+}
+
+const Determinedness& Problem::Determine(const DeterminednessOptions& options) {
+  if (determinedness_generation_ == generation_ &&
+      determinedness_options_.relative_tolerance == options.relative_tolerance &&
+      determinedness_options_.support_tolerance == options.support_tolerance) {
+    return determinedness_;
+  }
+  SparseJacobianEvaluation j = SparseJacobian();
+  determinedness_ = AnalyseDeterminedness(j.jacobian, j.variables, j.column_offsets, options);
+  determinedness_options_ = options;
+  determinedness_generation_ = generation_;
+  return determinedness_;
+}
+
+std::string Problem::DescribeUndetermined(const Determinedness& d) const {
+  return ::boxplus::DescribeUndetermined(
+      d, [this](int v) { return vars_[v]->name; }, [this](int v) { return vars_[v]->labels; });
+}
+
+void Problem::SetDirectionLabels(int id, std::vector<std::string> labels) {
+  CheckVariable(id);
+  BOXPLUS_CHECK(
+      labels.empty() || static_cast<int>(labels.size()) == vars_[id]->manifold->TangentSize(),
+      "variable '", vars_[id]->name, "': ", labels.size(), " labels for ",
+      vars_[id]->manifold->TangentSize(), " tangent directions");
+  vars_[id]->labels = std::move(labels);
+}
+const std::vector<std::string>& Problem::direction_labels(int id) const {
+  CheckVariable(id);
+  return vars_[id]->labels;
 }
 
 Eigen::MatrixXd Problem::Covariance(int id) { return JointCovariance({id}); }
@@ -540,6 +603,28 @@ Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
                            " are not touched by any measurement: their covariance is undetermined");
   }
   if (ids.empty()) return Eigen::MatrixXd(0, 0);
+  std::string names;
+  for (int id : ids) names += (names.empty() ? "'" : ", '") + vars_[id]->name + "'";
+  // Ceres' covariance notices a rank-deficient Jacobian only when it has at
+  // least as many rows as columns: the rank test decides.
+  const Determinedness& determinedness = Determine({});
+  const bool undetermined = std::any_of(ids.begin(), ids.end(),
+                                        [&](int id) { return determinedness.Find(id) != nullptr; });
+  if (undetermined) {
+    throw ::boxplus::Error(
+        "covariance of " + names + " is undefined: the measurements do not determine " +
+        DescribeUndetermined(determinedness) + " (add measurements or priors, or fix a variable)");
+  }
+  if (!determinedness.determined()) {
+    const SparseJacobianEvaluation j = SparseJacobian();
+    std::vector<int> columns;
+    for (int id : ids) {
+      const auto it = std::find(j.variables.begin(), j.variables.end(), id);
+      const int begin = j.column_offsets[it - j.variables.begin()];
+      for (int c = 0; c < vars_[id]->manifold->TangentSize(); ++c) columns.push_back(begin + c);
+    }
+    return CovarianceOfDeterminedColumns(j.jacobian, determinedness, columns);
+  }
   ceres::Covariance::Options co;
   co.algorithm_type = ceres::SPARSE_QR;
   co.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
@@ -550,8 +635,6 @@ Eigen::MatrixXd Problem::JointCovariance(const std::vector<int>& ids) {
       pairs.emplace_back(vars_[ids[i]]->data.get(), vars_[ids[j]]->data.get());
     }
   }
-  std::string names;
-  for (int id : ids) names += (names.empty() ? "'" : ", '") + vars_[id]->name + "'";
   BOXPLUS_CHECK(cov.Compute(pairs, CeresProblem()), "covariance of ", names,
                 " is undefined: the measurements do not determine every "
                 "parameter (rank-deficient Jacobian)");

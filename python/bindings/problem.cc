@@ -81,6 +81,40 @@ void RegisterProblem(py::module_& m) {
       py::arg("kind"), py::arg("ambient"),
       "The SO3, SE3 or S2 value with exactly these ambient numbers (from_ambient "
       "normalises again, which can move the last bit); for copies of a problem.");
+  py::class_<UndeterminedVariable>(m, "UndeterminedVariable",
+                                   "The tangent directions of one variable the data leave free.")
+      .def_readonly("variable", &UndeterminedVariable::variable)
+      .def_readonly("directions", &UndeterminedVariable::directions,
+                    "Orthonormal columns in the variable's tangent coordinates.")
+      .def_readonly("moves_with", &UndeterminedVariable::moves_with,
+                    "The variables these directions are tied to (a shared null vector).")
+      .def("__repr__", [](const UndeterminedVariable& u) {
+        return "<UndeterminedVariable " + std::to_string(u.variable) + ": " +
+               std::to_string(u.directions.cols()) + " free direction(s)>";
+      });
+  py::class_<Determinedness>(m, "Determinedness", R"doc(
+The rank test of a problem's Jacobian at its current values.
+
+Columns are equilibrated (J D⁻¹), and a direction counts as undetermined when
+its singular value is below ``tolerance`` times the largest; see
+``boxplus/determinedness.h`` for the method.)doc")
+      .def_readonly("num_columns", &Determinedness::num_columns)
+      .def_readonly("rank", &Determinedness::rank)
+      .def_readonly("largest_singular_value", &Determinedness::largest_singular_value)
+      .def_readonly("tolerance", &Determinedness::tolerance)
+      .def_readonly("variables", &Determinedness::variables)
+      .def_readonly("column_offsets", &Determinedness::column_offsets)
+      .def_readonly("null_space", &Determinedness::null_space,
+                    "Orthonormal basis of the null space in equilibrated coordinates.")
+      .def_readonly("column_norms", &Determinedness::column_norms)
+      .def_readonly("undetermined", &Determinedness::undetermined)
+      .def_property_readonly("determined", &Determinedness::determined)
+      .def_property_readonly("nullity", &Determinedness::nullity)
+      .def("__repr__", [](const Determinedness& d) {
+        return "<Determinedness rank " + std::to_string(d.rank) + " of " +
+               std::to_string(d.num_columns) + ">";
+      });
+
   py::class_<Problem>(m, "Problem", R"doc(
 The C++ least-squares problem: variables on manifolds and whitened residuals.
 The public, friendlier front is boxplus.OptimizationProblem.
@@ -184,6 +218,46 @@ SolveSummary
             return RaisingPython([&] { return p.JointCovariance(ids); });
           },
           py::arg("ids"))
+      .def("set_direction_labels", &Problem::SetDirectionLabels, py::arg("id"), py::arg("labels"),
+           "Names of the variable's tangent directions, used when a message names an "
+           "undetermined direction.")
+      .def(
+          "check_determined",
+          [](Problem& p, double relative_tolerance, double support_tolerance) {
+            DeterminednessOptions o;
+            o.relative_tolerance = relative_tolerance;
+            o.support_tolerance = support_tolerance;
+            return RaisingPython([&] { return p.CheckDetermined(o); });
+          },
+          py::arg("relative_tolerance") = DeterminednessOptions().relative_tolerance,
+          py::arg("support_tolerance") = DeterminednessOptions().support_tolerance,
+          "The rank test of the Jacobian at the current values (kept until the problem or "
+          "its values change): which tangent directions the measurements leave free.")
+      .def(
+          "describe_undetermined",
+          [](Problem& p, const Determinedness& d) {
+            return DescribeUndetermined(
+                d, [&p](int v) { return p.variable_name(v); },
+                [&p](int v) { return p.direction_labels(v); });
+          },
+          py::arg("determinedness"),
+          "\"'b': x, y (tied to 'a'); ...\": the undetermined variables and their free "
+          "directions, named with the variables' direction labels.")
+      .def(
+          "normal_matrix",
+          [](Problem& p) {
+            SparseJacobianEvaluation e = RaisingPython([&] { return p.EvaluateSparseJacobian(); });
+            py::dict d;
+            const Eigen::SparseMatrix<double> h = e.jacobian.transpose() * e.jacobian;
+            d["normal_matrix"] = Eigen::MatrixXd(h);
+            d["residuals"] = e.residuals;
+            d["variables"] = e.variables;
+            d["column_offsets"] = e.column_offsets;
+            return d;
+          },
+          "JᵀJ of the whitened Jacobian (dense n × n, formed from the sparse J) in the "
+          "tangent spaces of the free variables: a dict with normal_matrix, residuals "
+          "(whitened, as evaluate_jacobian's), variables (free ids) and column_offsets.")
       .def(
           "evaluate_jacobian",
           [](Problem& p) {

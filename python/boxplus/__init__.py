@@ -44,7 +44,7 @@ from boxplus.manifolds import (
 )
 from boxplus.parallel import TaskResult as TaskResult
 from boxplus.parallel import solve_many as solve_many
-from boxplus.problem import EvaluationError, OptimizationProblem
+from boxplus.problem import EvaluationError, OptimizationProblem, UndeterminedWarning
 
 __all__ = [
     "S2",
@@ -67,6 +67,7 @@ __all__ = [
     "Rn",
     "SolveSummary",
     "SolverOptions",
+    "UndeterminedWarning",
     "__version__",
     "batch",
     "losses",

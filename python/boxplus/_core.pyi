@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1056,6 +1056,70 @@ class Rn:
     @property
     def vec(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
+class UndeterminedVariable:
+    """
+    The tangent directions of one variable the data leave free.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def directions(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Orthonormal columns in the variable's tangent coordinates.
+        """
+    @property
+    def moves_with(self) -> list[int]:
+        """
+        The variables these directions are tied to (a shared null vector).
+        """
+    @property
+    def variable(self) -> int:
+        ...
+class Determinedness:
+    """
+    The rank test of a problem's Jacobian at its current values.
+    
+    Columns are equilibrated (J D⁻¹), and a direction counts as undetermined when
+    its singular value is below ``tolerance`` times the largest; see
+    ``boxplus/determinedness.h`` for the method.
+    """
+    def __repr__(self) -> str:
+        ...
+    @property
+    def column_norms(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
+        ...
+    @property
+    def column_offsets(self) -> list[int]:
+        ...
+    @property
+    def determined(self) -> bool:
+        ...
+    @property
+    def largest_singular_value(self) -> float:
+        ...
+    @property
+    def null_space(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
+        """
+        Orthonormal basis of the null space in equilibrated coordinates.
+        """
+    @property
+    def nullity(self) -> int:
+        ...
+    @property
+    def num_columns(self) -> int:
+        ...
+    @property
+    def rank(self) -> int:
+        ...
+    @property
+    def tolerance(self) -> float:
+        ...
+    @property
+    def undetermined(self) -> list[UndeterminedVariable]:
+        ...
+    @property
+    def variables(self) -> list[int]:
+        ...
 class Problem:
     """
     The C++ least-squares problem: variables on manifolds and whitened residuals.
@@ -1075,6 +1139,10 @@ class Problem:
         """
     def add_variable(self, manifold: Manifold, init: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], name: str = '') -> int:
         ...
+    def check_determined(self, relative_tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-09, support_tolerance: typing.SupportsFloat | typing.SupportsIndex = 1e-06) -> Determinedness:
+        """
+        The rank test of the Jacobian at the current values (kept until the problem or its values change): which tangent directions the measurements leave free.
+        """
     def cost(self) -> float:
         """
         ½ Σ ρ(‖rᵢ‖²) at the current values.
@@ -1082,6 +1150,10 @@ class Problem:
     def covariance(self, id: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
         Marginal covariance in the variable's tangent space.
+        """
+    def describe_undetermined(self, determinedness: Determinedness) -> str:
+        """
+        "'b': x, y (tied to 'a'); ...": the undetermined variables and their free directions, named with the variables' direction labels.
         """
     def error(self, measurement_id: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
@@ -1107,6 +1179,10 @@ class Problem:
         """
         The noise model a measurement whitens with.
         """
+    def normal_matrix(self) -> dict:
+        """
+        JᵀJ of the whitened Jacobian (dense n × n, formed from the sparse J) in the tangent spaces of the free variables: a dict with normal_matrix, residuals (whitened, as evaluate_jacobian's), variables (free ids) and column_offsets.
+        """
     def residual(self, measurement_id: typing.SupportsInt | typing.SupportsIndex) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         """
         Whitened residual of one measurement.
@@ -1114,6 +1190,10 @@ class Problem:
     def restore_value(self, id: typing.SupportsInt | typing.SupportsIndex, value: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"]) -> None:
         """
         set_value for a value read with value(id): the same bits back (for copies).
+        """
+    def set_direction_labels(self, id: typing.SupportsInt | typing.SupportsIndex, labels: collections.abc.Sequence[str]) -> None:
+        """
+        Names of the variable's tangent directions, used when a message names an undetermined direction.
         """
     def set_fixed(self, id: typing.SupportsInt | typing.SupportsIndex, fixed: bool = True) -> None:
         ...

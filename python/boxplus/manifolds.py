@@ -305,7 +305,12 @@ class _CompoundCodec(Codec):
 
 _BUILTIN = (SO2, SO3, SE2, SE3, S2)
 _codec_cache: dict[tuple[Any, ...], Codec] = {}
-_LABELS: dict[type, tuple[str, ...]] = {SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z")}
+_LABELS: dict[type, tuple[str, ...]] = {
+    SE3: ("p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z"),
+    SE2: ("p.x", "p.y", "θ"),
+    SO3: ("θ.x", "θ.y", "θ.z"),
+    SO2: ("θ",),
+}
 _CHARTS: dict[type, Callable[[Any], np.ndarray]] = {
     SE3: lambda v: np.concatenate([v.pos, v.rot.log()]),
     SO3: lambda v: v.log(),

@@ -31,6 +31,7 @@ problem pickles, copies and rebuilds itself for parallel work.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import Any, Callable
 
@@ -43,7 +44,13 @@ from boxplus.manifolds import SE2, SE3, Codec, codec_of
 from boxplus.measurements import EvaluationError, Group, batch_errors, note, vector_error
 from boxplus.noise import NoiseModel, noise_model, noise_models
 
-__all__ = ["EvaluationError", "OptimizationProblem"]
+
+class UndeterminedWarning(UserWarning):
+    """A solve ended where the measurements leave some directions free (a rank test
+    of the Jacobian, :meth:`OptimizationProblem.check_determined`): the values along
+    them are arbitrary and their covariances are refused."""
+
+__all__ = ["EvaluationError", "OptimizationProblem", "UndeterminedWarning"]
 
 
 def _codec_or_none(v: Any) -> Codec | None:
@@ -123,6 +130,8 @@ class OptimizationProblem:
             self._names[name] = vid
         if labels is not None:
             self._labels[vid] = list(labels)
+        # For messages that name an undetermined direction ("'R': θ.z").
+        self._core.set_direction_labels(vid, self._labels.get(vid) or codec.labels())
         if fixed:
             self._core.set_fixed(vid, True)
         return vid
@@ -582,6 +591,13 @@ class OptimizationProblem:
 
         summary = solver.run(self._core, options, callback, verbose, **overrides)
         log_summary(summary, "solve")
+        if summary.usable and summary.termination != "interrupted":
+            free = self.describe_undetermined()
+            if free:
+                warnings.warn(UndeterminedWarning(
+                    f"the measurements do not determine {free}: covariances of these "
+                    f"variables are refused (add measurements or priors, or fix a variable)"),
+                    stacklevel=2)
         return summary
 
     # ---- after a solve ---------------------------------------------------------------
@@ -613,21 +629,30 @@ class OptimizationProblem:
         return self.joint_covariance([vid])
 
     def joint_covariance(self, ids: Sequence[int]) -> np.ndarray:
+        """Joint covariance of distinct variables ``ids`` (blocks in that order), in
+        their tangent spaces; raises ValueError as :meth:`covariance`."""
         ids = self.check_ids(ids, "joint_covariance")
         for v in ids:
             self._check_determined(v)
-        try:
-            return self._core.joint_covariance(ids)
-        except ValueError as e:
-            if "rank-deficient" not in str(e):
-                raise
-            # Ceres' covariance needs the whole Jacobian to have full rank.
-            return self._determined_covariance(ids, e)
+        return self._core.joint_covariance(ids)
 
-    def _determined_covariance(self, ids: list[int], error: Exception) -> np.ndarray:
-        from boxplus.covariance import determined_block
+    def check_determined(self) -> _core.Determinedness:
+        """Which tangent directions the measurements leave free at the current values.
 
-        return determined_block(self, ids, error)
+        A rank test of the whitened Jacobian with equilibrated columns (a direction
+        whose singular value is below 10⁻⁹ of the largest is free; one sparse
+        factorisation, kept until the problem or its values change). Its
+        ``undetermined`` lists each variable moved by the null space, its free
+        tangent directions and the variables they are tied to;
+        :meth:`describe_undetermined` says it in words.
+        """
+        return self._core.check_determined()
+
+    def describe_undetermined(self) -> str:
+        """"'b': p.x, p.y (tied to 'a'); ..." — the free directions, or "" when the
+        measurements determine every free variable."""
+        d = self._core.check_determined()
+        return "" if d.determined else self._core.describe_undetermined(d)
 
     def std(self, vid: int) -> np.ndarray:
         """Standard deviations of variable ``vid`` along its tangent directions."""

@@ -106,6 +106,7 @@ def test_optimization_problem_add_and_solve(z, ids, noise_kw, noise, f_kind, los
 
 
 @FUZZ
+@pytest.mark.filterwarnings("ignore::boxplus.UndeterminedWarning")
 @given(Z=anything, ids=st.one_of(arrays, junk, st.lists(st.lists(st.integers(-1, 5), max_size=2), max_size=3)),
        cov=st.one_of(st.none(), arrays), constants=st.lists(anything, max_size=2))
 def test_add_measurements_batches(Z, ids, cov, constants):

@@ -51,7 +51,8 @@ def test_camera_imu_within_3_sigma(noise):
 def test_imu_yaw_from_one_gravity_reading_is_named_undetermined():
     ex = _example("camera_imu_calibration")
     data = ex.simulate(np.random.default_rng(1))
-    o, ids, _ = ex.calibrate(data, gravity_views=[0], estimate_accel=False)
+    with pytest.warns(bp.UndeterminedWarning, match="'imu_from_cam': .*θ.z"):
+        o, ids, _ = ex.calibrate(data, gravity_views=[0], estimate_accel=False)
     rep = report(o)
     named = {n for _, names in rep.undetermined for n in names}
     assert any(n.startswith("imu_from_cam.θ") for n in named), rep.warnings
@@ -129,7 +130,8 @@ def test_humanoid_head_within_3_sigma(kinematics, noise):
 def test_humanoid_head_dh_without_prior_names_the_redundant_last_link():
     ex = _example("humanoid_head_calibration")
     data = ex.simulate(np.random.default_rng(1), pixel_sigma=0.5)
-    o, ids, _ = ex.calibrate(data, "dh", dh_prior=False)
+    with pytest.warns(bp.UndeterminedWarning, match="'dh_l': .*d6"):
+        o, ids, _ = ex.calibrate(data, "dh", dh_prior=False)
     rep = report(o)
     named = {n for _, names in rep.undetermined for n in names}
     # the last link's [θ6, d6, a6, α6] and the marker on the hand are one point: redundant

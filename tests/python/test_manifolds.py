@@ -163,7 +163,9 @@ def test_codec_labels_name_the_tangent_directions():
 
     assert codec_of(bp.SE3()).labels() == ["p.x", "p.y", "p.z", "θ.x", "θ.y", "θ.z"]
     assert codec_of(bp.Rn(2)).labels() == ["[0]", "[1]"]
-    assert codec_of(bp.SO3()).labels() == ["[0]", "[1]", "[2]"]
+    assert codec_of(bp.SO3()).labels() == ["θ.x", "θ.y", "θ.z"]
+    assert codec_of(bp.SE2()).labels() == ["p.x", "p.y", "θ"]
+    assert codec_of(bp.SO2()).labels() == ["θ"]
     C = bp.make_compound("C_labels", f=bp.Rn(1), c=bp.Rn(2), pose=bp.SE3())
     assert codec_of(C()).labels() == ["f", "c[0]", "c[1]"] + [f"pose[{i}]" for i in range(6)]
 

@@ -252,7 +252,8 @@ def test_untouched_variable_is_reported_undetermined():
     x = p.add_random_var(bp.Rn([1.0]), name="seen")
     y = p.add_random_var(bp.SO3(), name="unseen")
     p.add_measurement([2.0], lambda v: v.vec, [x], sigma=0.5)
-    p.solve()
+    with pytest.warns(bp.UndeterminedWarning, match="do not determine 'unseen': all 3 directions"):
+        p.solve()
     assert np.allclose(p.std(x), [0.5])
     for call in (lambda: p.std(y), lambda: p.covariance(y), lambda: p.joint_covariance([x, y])):
         with pytest.raises(ValueError, match="'unseen' is undetermined"):

@@ -13,7 +13,8 @@ from boxplus import _core
 
 def small_problem():
     p = bp.OptimizationProblem()
-    x = p.add_random_var(bp.Rn([3.0, -1.0]), name="x")
+    # (from -1, a Gauss–Newton step lands on 0, where the Jacobian 3v² vanishes)
+    x = p.add_random_var(bp.Rn([3.0, 1.5]), name="x")
     p.add_measurement([1.0, 2.0], lambda v: v.vec**3, [x], sigma=0.5, name="cubic")
     return p, x
 

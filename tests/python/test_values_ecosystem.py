@@ -172,7 +172,8 @@ def test_problem_reprs():
                        "3 measurements (prior x1, <lambda> x2)>")
     assert repr(p._core) == ("<boxplus.Problem: 3 variables (1 fixed, 8 free tangent dimensions), "
                              "3 measurements (12 residuals)>")
-    s = p.solve()
+    with pytest.warns(bp.UndeterminedWarning, match="'x2': all 2 directions"):
+        s = p.solve()
     assert repr(s).startswith("SolveSummary(") and "termination='convergence'" in repr(s)
 
 
@@ -205,7 +206,8 @@ def test_undetermined_variable_is_reported_not_sigma_zero():
     x = p.add_random_var(bp.Rn(2), name="seen")
     y = p.add_random_var(bp.SO3(), name="lonely")
     p.add_prior(x, bp.Rn([1.0, 2.0]), sigma=[0.5, 2.0])
-    p.solve()
+    with pytest.warns(bp.UndeterminedWarning, match="'lonely': all 3 directions"):
+        p.solve()
     np.testing.assert_allclose(p.std(x), [0.5, 2.0], rtol=1e-9)
     for f in (p.std, p.covariance):
         with pytest.raises(ValueError, match="variable 'lonely' is undetermined: no measurement"):

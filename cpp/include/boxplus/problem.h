@@ -28,7 +28,9 @@
 #include <ceres/manifold.h>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
+#include "boxplus/determinedness.h"
 #include "boxplus/noise.h"
 #include "boxplus/solver_options.h"
 
@@ -41,6 +43,14 @@ namespace boxplus {
 // The whitened residuals and their Jacobian at the current values, in the
 // tangent spaces of the free (not fixed) variables (what the solver sees; with
 // robust losses applied as Ceres applies them).
+// The whitened Jacobian with the layout of JacobianEvaluation, sparse.
+struct SparseJacobianEvaluation {
+  Eigen::VectorXd residuals;  // all measurements, in id order
+  Eigen::SparseMatrix<double> jacobian;
+  std::vector<int> variables;
+  std::vector<int> column_offsets;
+};
+
 struct JacobianEvaluation {
   Eigen::VectorXd residuals;        // all measurements, in id order
   Eigen::MatrixXd jacobian;         // rows: residuals; columns: tangent coordinates
@@ -90,6 +100,11 @@ class Problem {
   // True when some measurement depends on the variable. A free variable no
   // measurement touches is undetermined: it has no covariance.
   bool IsTouched(int id) const;
+  // Names of the variable's tangent directions (e.g. "x", "rotation about
+  // z"), used when a message names an undetermined direction; empty: "d0",
+  // "d1", ...
+  void SetDirectionLabels(int id, std::vector<std::string> labels);
+  const std::vector<std::string>& direction_labels(int id) const;
 
   // Adds a measurement depending on `var_ids` (in the order of the cost
   // function's parameter blocks). The cost function returns the whitened
@@ -137,9 +152,21 @@ class Problem {
   // diagnostics: rank, conditioning, which parameters are undetermined).
   JacobianEvaluation EvaluateJacobian();
 
+  SparseJacobianEvaluation EvaluateSparseJacobian();
+
+  // Which tangent directions of the free variables the measurements leave
+  // undetermined at the current values (determinedness.h: a rank test on the
+  // equilibrated Jacobian, one sparse factorisation). Kept until the problem
+  // or its values change, so the covariances after a solve share it.
+  const Determinedness& CheckDetermined(const DeterminednessOptions& options = {});
+
   // Marginal covariance of a variable in its tangent space (after a solve).
   // Throws when the problem does not determine the variable: it is fixed, no
-  // measurement touches it (see IsTouched), or the Jacobian is rank-deficient.
+  // measurement touches it (see IsTouched), or the data leave one of its
+  // directions free (CheckDetermined; the message names the directions and
+  // the variables they are tied to). A variable the data determine keeps its
+  // covariance when others are free: the block of (JᵀJ)⁺, which no choice of
+  // the free directions changes.
   Eigen::MatrixXd Covariance(int id);
   // Joint covariance of several distinct variables, blocks in the order
   // given; throws as Covariance, naming the variables at fault.
@@ -157,6 +184,18 @@ class Problem {
   std::string FirstNonFiniteMeasurement();
   // The Ceres problem with every variable and measurement added so far.
   ceres::Problem* CeresProblem();
+
+  // Bumped whenever values, fixed flags, variables or measurements change;
+  // the cached determinedness is valid for one generation.
+  long long generation_ = 0;
+  long long determinedness_generation_ = -1;
+  DeterminednessOptions determinedness_options_;
+  Determinedness determinedness_;
+  // CheckDetermined and EvaluateSparseJacobian without taking Busy (for
+  // callers that hold it).
+  const Determinedness& Determine(const DeterminednessOptions& options);
+  SparseJacobianEvaluation SparseJacobian();
+  std::string DescribeUndetermined(const Determinedness& d) const;
 
   // The thread running Solve or an evaluation through Ceres (none when idle).
   mutable std::atomic<std::thread::id> busy_{};

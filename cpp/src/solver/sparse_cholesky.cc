@@ -99,6 +99,15 @@ bool SparseCholesky::SolveUnshifted(const Matrix& H, const Eigen::MatrixXd& B, E
   return SolveDense(H, B, X, 1);
 }
 
+bool SparseCholesky::SolveFactorised(const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
+  if (supernodal_) {
+    *X = factors_->cholmod.solve(B);
+  } else {
+    *X = factors_->simplicial.solve(B);
+  }
+  return X->allFinite();
+}
+
 template <class Dense>
 bool SparseCholesky::SolveDense(const Matrix& H, const Dense& b, Dense* x, int attempts) {
   double shift = 0.0;

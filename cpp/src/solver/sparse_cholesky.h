@@ -63,6 +63,13 @@ class SparseCholesky {
   // shift: false when H does not factorise or X is not finite.
   bool SolveUnshifted(const Matrix& H, const Eigen::MatrixXd& B, Eigen::MatrixXd* X);
 
+  // Factorises H + shift·I (shift ≥ 0) once, for several solves with
+  // SolveFactorised; false when it does not factorise.
+  bool FactoriseShifted(const Matrix& H, double shift) { return Factorise(H, shift); }
+  // X = (H + shift·I)⁻¹ B with the last factorisation; false when X is not
+  // finite.
+  bool SolveFactorised(const Eigen::MatrixXd& B, Eigen::MatrixXd* X);
+
   bool supernodal() const { return supernodal_; }
   // The method, and for the supernodal one the ordering kept.
   std::string name() const;

@@ -3,16 +3,21 @@ standard deviation, and a warning naming the parameters the data cannot
 determine.
 
 The diagnosis works on the whitened Jacobian J of all residuals w.r.t. the
-tangent coordinates of the free variables (what the solver sees). Columns are
-scaled to unit norm (so units do not matter) and decomposed, J D⁻¹ = U S Vᵀ.
-A singular value below ``rank_tol``·s_max is a direction the data does not
-determine (rank deficiency: e.g. the yaw of an IMU seen only through gravity);
-below ``cond_tol``·s_max it is badly conditioned. Each such direction is
-named by the parameters with the largest entries in its singular vector. The
-covariance is (JᵀJ)⁻¹ (the pseudo-inverse over the determined directions;
-undetermined parameters get an infinite σ), optionally rescaled by the
-a-posteriori variance factor σ̂² = ‖r‖² / (m − n) when the given Σ is only a
-guess (``rescale=True``, what OpenCV reports).
+tangent coordinates of the free variables (what the solver sees), with its
+columns scaled to unit norm (J D⁻¹, so units do not matter). The directions
+the data do not determine come from the problem's rank test
+(:meth:`boxplus.OptimizationProblem.check_determined`: singular values of
+J D⁻¹ below ``rank_tol``·s_max, found on J itself with one sparse
+factorisation, whatever the number of rows; e.g. the yaw of an IMU seen only
+through gravity), each named by its variable's parameters. Directions whose
+singular value is below ``cond_tol``·s_max are badly conditioned, named by the
+parameters with the largest entries in the eigenvector of D⁻¹JᵀJD⁻¹ (formed
+sparse, decomposed dense: n × n, never the m × n Jacobian). The covariance is
+(JᵀJ)⁺ (the pseudo-inverse over the determined directions, which no choice
+of the free ones changes; undetermined parameters get an infinite σ),
+optionally rescaled by the a-posteriori variance factor σ̂² = ‖r‖² / (m − n)
+when the given Σ is only a guess (``rescale=True``, what OpenCV reports).
+The linear algebra runs on one BLAS thread, as the solves do.
 
 σ convention (every report of :mod:`boxplus.calib`): σ is computed from the
 noise Σ the measurements were given, not rescaled (``rescale=False``, the
@@ -27,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from boxplus.covariance import determined_covariance, scaled_svd
+from boxplus import blas_threads
 
 __all__ = ["CalibrationReport", "Parameter", "report"]
 
@@ -131,43 +136,71 @@ def report(o, rescale: bool = False, rank_tol: float = 1e-9, cond_tol: float = 1
     fit's residual scale (OpenCV's convention). The report prints both
     (``sigma_factor`` is σ̂), so either figure is at hand.
     """
-    jac = o.jacobian()
-    J = np.asarray(jac["jacobian"])
-    r = np.asarray(jac["residuals"])
+    with blas_threads.limit(1):
+        return _report(o, rescale, rank_tol, cond_tol, name_tol)
+
+
+def _direction_names(v: np.ndarray, names: list[str], name_tol: float) -> list[str]:
+    """The parameters with the largest entries of direction ``v``."""
+    top = np.abs(v).max()
+    return [names[i] for i in np.flatnonzero(np.abs(v) >= name_tol * top)] if top > 0 else []
+
+
+def _report(o, rescale: bool, rank_tol: float, cond_tol: float,
+            name_tol: float) -> CalibrationReport:
+    det = o._core.check_determined(relative_tolerance=rank_tol)
+    nm = o._core.normal_matrix()
+    H = np.asarray(nm["normal_matrix"])
+    r = np.asarray(nm["residuals"])
     columns: list[tuple[int, int]] = []
     names: list[str] = []
-    for vid in jac["variables"]:
-        labels = o.labels(vid)
+    for vid in nm["variables"]:
         vname = o.variable_name(vid)
-        for t, lab in enumerate(labels):
+        for t, lab in enumerate(o.labels(vid)):
             columns.append((vid, t))
             names.append(f"{vname}.{lab}")
-    n = J.shape[1]
-    norms, observed, s, Vt, idx = scaled_svd(J)
+    n = H.shape[0]
+    norms = np.asarray(det.column_norms)
+    scale = np.divide(1.0, norms, out=np.zeros(n), where=norms > 0)
+    Hs = H * np.outer(scale, scale)
+    N = np.asarray(det.null_space).reshape(n, -1)
     undetermined: list[tuple[float, list[str]]] = []
+    for u in det.undetermined:
+        vname = o.variable_name(u.variable)
+        labels = o.labels(u.variable)
+        D = np.asarray(u.directions)
+        for j in range(D.shape[1]):
+            undetermined.append((0.0, _direction_names(D[:, j], [f"{vname}.{lab}" for lab in labels],
+                                                       name_tol)))
     ill: list[tuple[float, list[str]]] = []
-    if (~observed).any():
-        undetermined.append((0.0, [names[i] for i in np.flatnonzero(~observed)]))
-    cov = np.full((n, n), np.nan)
     cond = np.inf
-    if s.size:
-        rel = s / s[0]
-        cond = s[0] / s[-1] if s[-1] > 0 else np.inf
-        for k in np.flatnonzero(rel < cond_tol):
-            v = Vt[k] / np.abs(Vt[k]).max()
-            involved = idx[np.abs(v) >= name_tol]
-            entry = (float(rel[k]), [names[i] for i in involved])
-            if rel[k] < rank_tol:
-                undetermined.append(entry)
-            else:
-                ill.append(entry)
-        cov, _ = determined_covariance(J, rank_tol)
-    dof = max(J.shape[0] - n, 1)
+    cov = np.full((n, n), np.nan)
+    if n:
+        # The null space found on J is set aside; the rest of the spectrum of
+        # D⁻¹JᵀJD⁻¹ gives the condition number and the weak directions.
+        w, V = np.linalg.eigh(Hs)
+        k = N.shape[1]
+        w, V = w[k:], V[:, k:]
+        if w.size and w[-1] > 0:
+            rel = np.sqrt(np.clip(w, 0, None) / w[-1])
+            cond = float(1 / rel[0]) if rel[0] > 0 else np.inf
+            for i in np.flatnonzero(rel < cond_tol):
+                ill.append((float(rel[i]), _direction_names(V[:, i], names, name_tol)))
+        # (JᵀJ)⁺ = (JᵀJ + N Nᵀ)⁻¹ − N Nᵀ for an orthonormal basis N of its null space.
+        NNt = N @ N.T
+        Cs = np.linalg.solve(Hs + NNt, np.eye(n)) - NNt
+        cov = Cs * np.outer(scale, scale)
+        free = np.linalg.norm(N, axis=1) > 1e-6
+        cov[free, :] = np.nan
+        cov[:, free] = np.nan
+        cov[free, free] = np.inf
+        cov = 0.5 * (cov + cov.T)
+    dof = max(r.size - n, 1)
     sigma_factor = float(np.sqrt(r @ r / dof))
     if rescale:
         cov = cov * sigma_factor**2
     params = []
-    for vid in jac["variables"]:
+    for vid in nm["variables"]:
         vals = _display_values(o, vid)
         for t, lab in enumerate(o.labels(vid)):
             col = columns.index((vid, t))
