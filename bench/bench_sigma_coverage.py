@@ -1,0 +1,192 @@
+"""Does the reported σ match reality? Monte-Carlo over simulated re-captures (#29).
+
+For each family a scene with known truth is captured again and again (new noise,
+and for the examples' simulators new views too), solved, and each estimated
+parameter's error e = estimate ⊟ truth is divided by the σ that boxplus reported
+for that capture (the given-noise σ, √diag of the tangent covariance). If σ is
+right, z = e / σ is standard normal:
+
+* ``σ ratio`` — the empirical spread of z, i.e. (spread of the estimates) /
+  (predicted σ), per parameter; the target is 1 ± 0.2 for every parameter;
+* ``|z| ≤ 3`` — the fraction of all (capture, parameter) pairs within 3σ; the
+  target is ≥ 99 % (a normal gives 99.73 %).
+
+Families: one camera per lens model (a fixed set of board views, noise
+re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
+(the example's simulator, robot and pixel noise), and the accelerometer against
+gravity (scale, bias, misalignment and imu_from_cam). Pose graphs, the joint
+rig and N-camera rigs are not in it yet.
+
+Run: .venv/bin/python bench/bench_sigma_coverage.py [--captures 100] [--family NAME]
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import boxplus as bp
+import numpy as np
+from boxplus.calib import calibrate_mono, calibrate_stereo
+from boxplus.calib.synthetic import board_points, observe, random_views
+from boxplus.manifolds import codec_of
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+# Truths per lens model: a 640×480 camera with visible distortion.
+LENSES: dict[str, np.ndarray] = {
+    "opencv5": np.array([500.0, 505.0, 320.0, 240.0, -0.25, 0.08, 0.001, -0.0015, -0.01]),
+    "radial2": np.array([480.0, 478.0, 322.0, 238.0, -0.3, 0.1]),
+    "kannala_brandt": np.array([300.0, 301.0, 320.0, 240.0, 0.05, -0.01, 0.002, -0.0005]),
+    "rational": np.array([500.0, 505.0, 320.0, 240.0, -0.25, 0.08, 0.001, -0.0015, -0.01,
+                          0.02, 0.01, 0.005]),
+}
+PIXEL_SIGMA = 0.3
+
+Trial = Callable[[np.random.Generator], tuple[list[str], np.ndarray, np.ndarray]]
+
+
+def _example(name: str):
+    spec = importlib.util.spec_from_file_location(name, EXAMPLES / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _error(o, vid: int, truth) -> tuple[np.ndarray, np.ndarray]:
+    """(estimate ⊟ truth, σ) of variable ``vid`` in its tangent space."""
+    est = o[vid]
+    m = codec_of(est).manifold
+    return np.asarray(m.minus(est.ambient, codec_of(truth).to_ambient(truth))), o.std(vid)
+
+
+def _views(model: str, n: int, seed: int = 1) -> tuple[np.ndarray, list[bp.SE3]]:
+    """A fixed capture geometry: board points and n views that see every corner."""
+    rng = np.random.default_rng(seed)
+    p = board_points()
+    out: list[bp.SE3] = []
+    while len(out) < n:
+        v = random_views(1, rng, p.mean(axis=0), spread=0.45, roll=0.8)[0]
+        if observe(LENSES[model], v, p, 0.0, rng, model=model)[1].all():
+            out.append(v)
+    return p, out
+
+
+def camera_family(model: str, n_views: int = 14) -> Trial:
+    p, views = _views(model, n_views)
+    k = LENSES[model]
+    labels = bp.calib.models.model_labels(model) if hasattr(bp, "calib") else None
+
+    def trial(rng):
+        z = [observe(k, v, p, PIXEL_SIGMA, rng, model=model)[0] for v in views]
+        cal = calibrate_mono(z, p, (640, 480), model=model, sigma=PIXEL_SIGMA)
+        e, s = _error(cal.problem, cal.ids["camera"], bp.Rn(k))
+        return [f"camera.{n}" for n in (labels or range(len(k)))], e, s
+
+    return trial
+
+
+def stereo_family(n_views: int = 12) -> Trial:
+    model = "opencv5"
+    p, views = _views(model, n_views, seed=2)
+    k = LENSES[model]
+    right_from_left = bp.SE3(bp.SO3.exp(np.array([0.01, 0.03, -0.005])), np.array([-0.12, 0.002, 0.001]))
+    views = [v for v in views
+             if observe(k, v * right_from_left.inverse(), p, 0.0, np.random.default_rng(0))[1].all()]
+    labels = bp.calib.models.model_labels(model)
+
+    def trial(rng):
+        L = [observe(k, v, p, PIXEL_SIGMA, rng)[0] for v in views]
+        R = [observe(k, v * right_from_left.inverse(), p, PIXEL_SIGMA, rng)[0] for v in views]
+        cal = calibrate_stereo(L, R, p, (640, 480), model=model, sigma=PIXEL_SIGMA)
+        parts = [_error(cal.problem, cal.ids["left"], bp.Rn(k)),
+                 _error(cal.problem, cal.ids["right"], bp.Rn(k)),
+                 _error(cal.problem, cal.ids["right_from_left"], right_from_left)]
+        names = ([f"left.{n}" for n in labels] + [f"right.{n}" for n in labels]
+                 + [f"right_from_left.{n}" for n in codec_of(right_from_left).labels()])
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
+def hand_eye_family() -> Trial:
+    ex = _example("hand_eye_calibration")
+
+    def trial(rng):
+        data = ex.simulate(rng, pixel_sigma=0.5)
+        o, ids, _ = ex.calibrate(data)
+        parts = [_error(o, ids["cam_from_gripper"], ex.TRUTH["gripper_from_cam"].inverse()),
+                 _error(o, ids["board_from_base"], ex.TRUTH["base_from_board"].inverse())]
+        labels = codec_of(bp.SE3()).labels()
+        names = [f"cam_from_gripper.{n}" for n in labels] + [f"board_from_base.{n}" for n in labels]
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
+def gravity_family() -> Trial:
+    ex = _example("calib_accelerometer")
+
+    def trial(rng):
+        o, accel, imu, _ = ex.calibrate(9, rng)
+        parts = [_error(o, accel, bp.Rn(ex.TRUE_ACCEL)), _error(o, imu, ex.IMU_FROM_CAM)]
+        names = [f"accel.{n}" for n in o.labels(accel)] + [f"imu_from_cam.{n}" for n in o.labels(imu)]
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
+FAMILIES: dict[str, Callable[[], Trial]] = {
+    **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
+    "stereo[opencv5]": stereo_family,
+    "hand-eye": hand_eye_family,
+    "accelerometer+gravity": gravity_family,
+}
+
+
+def run(name: str, captures: int, seed: int = 0) -> dict:
+    trial = FAMILIES[name]()
+    rng = np.random.default_rng(seed)
+    Z, failures = [], 0
+    names: list[str] = []
+    t0 = time.perf_counter()
+    for _ in range(captures):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # a capture's own warnings are not the question
+                names, e, s = trial(rng)
+        except (ValueError, RuntimeError) as err:
+            failures += 1
+            print(f"  {name}: a capture failed: {err}")
+            continue
+        Z.append(e / s)
+    Z = np.array(Z)
+    ratio = Z.std(axis=0, ddof=1)
+    return dict(name=name, captures=len(Z), failures=failures, names=names, ratio=ratio,
+                within3=float(np.mean(np.abs(Z) <= 3)), mean_z=Z.mean(axis=0),
+                seconds=time.perf_counter() - t0)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--captures", type=int, default=100)
+    ap.add_argument("--family", choices=sorted(FAMILIES), action="append",
+                    help="run only these (repeatable); default: all")
+    args = ap.parse_args()
+    print(f"{'family':24s} {'captures':>8s} {'params':>6s} {'σ ratio median':>14s} "
+          f"{'worst':>16s} {'|z|≤3':>7s} {'in ±20 %':>9s} {'time':>7s}")
+    for name in args.family or list(FAMILIES):
+        r = run(name, args.captures)
+        worst = int(np.argmax(np.abs(r["ratio"] - 1)))
+        inside = np.mean(np.abs(r["ratio"] - 1) <= 0.2)
+        print(f"{name:24s} {r['captures']:8d} {len(r['ratio']):6d} {np.median(r['ratio']):14.3f} "
+              f"{r['ratio'][worst]:6.3f} {r['names'][worst]:>9.9s} {100 * r['within3']:6.2f}% "
+              f"{100 * inside:8.0f}% {r['seconds']:6.1f}s", flush=True)
+
+
+if __name__ == "__main__":
+    main()
