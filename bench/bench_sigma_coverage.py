@@ -14,8 +14,9 @@ right, z = e / σ is standard normal:
 Families: one camera per lens model (a fixed set of board views, noise
 re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
-gravity (scale, bias, misalignment and imu_from_cam). Pose graphs, the joint
-rig and N-camera rigs are not in it yet.
+gravity (scale, bias, misalignment and imu_from_cam), and generated pose graphs
+(2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed). The
+joint rig and N-camera rigs are not in it yet.
 
 Run: .venv/bin/python bench/bench_sigma_coverage.py [--captures 100] [--family NAME]
 """
@@ -140,11 +141,42 @@ def gravity_family() -> Trial:
     return trial
 
 
+def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
+    """Generated graphs (a new trajectory and noise per capture, vertex 0 fixed): the
+    poses at a third, two thirds and the end of the trajectory."""
+    import tempfile
+
+    from boxplus.slam import load_g2o
+    from boxplus.slam.generate import generate
+
+    kind = "SE2" if dimension == 2 else "SE3"
+    manifold = bp.make_manifold(kind)
+    labels = ["p.x", "p.y", "θ"] if dimension == 2 else codec_of(bp.SE3()).labels()
+
+    def trial(rng):
+        gg = generate(family, dimension, n, noise="medium", seed=int(rng.integers(1 << 30)))
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp) / "graph.g2o"
+            gg.write(path)
+            g = load_g2o(path, init="file")
+        g.solve()
+        names, es, ss = [], [], []
+        for v in (n // 3, 2 * n // 3, n - 1):
+            es.append(np.asarray(manifold.minus(g.value(v), gg.truth[v])))
+            ss.append(np.sqrt(np.diag(g.problem.covariance(v))))
+            names += [f"x{v}.{lab}" for lab in labels]
+        return names, np.concatenate(es), np.concatenate(ss)
+
+    return trial
+
+
 FAMILIES: dict[str, Callable[[], Trial]] = {
     **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
     "stereo[opencv5]": stereo_family,
     "hand-eye": hand_eye_family,
     "accelerometer+gravity": gravity_family,
+    "pose graph 2D manhattan": lambda: pose_graph_family("manhattan", 2),
+    "pose graph 3D sphere": lambda: pose_graph_family("sphere", 3),
 }
 
 

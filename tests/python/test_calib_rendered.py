@@ -36,8 +36,11 @@ def test_mono_pinhole_from_a_folder_recovers_the_truth(tmp_path, capsys):
     write_views(tmp_path / "cam", t, "opencv5", PINHOLE, (640, 480), poses, noise_sigma=1.0)
     out = tmp_path / "out"
     assert main(["--target", TARGET, "--quiet", "--no-plots", "--sigma", "0.1", "--out", str(out),
-                 str(tmp_path / "cam")]) == 0
+                 "--suggest", "2", str(tmp_path / "cam")]) == 0
     text = capsys.readouterr().out
+    assert "Capture next (--suggest 2):" in text and "  2. cam: board centre at" in text
+    rows = (out / "suggested_views.csv").read_text().splitlines()
+    assert rows[0].startswith("camera,rank,center_u_px") and len(rows) == 3
     (cam,) = io.read_opencv_yaml(out / "calibration.yml")
     assert cam.name == "cam" and cam.model == "opencv5"
     rms = float(text.split("RMS reprojection error ")[1].split()[0])

@@ -209,6 +209,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--write-into-input", action="store_true",
                     help="allow --out to be a folder the images are read from (its outputs are "
                     "then listed in .boxplus-calib-outputs and skipped by later runs)")
+    ap.add_argument("--suggest", type=int, default=0, metavar="N",
+                    help="rank N board poses to capture next per camera (the worst projection σ "
+                         "they would leave): suggested_views.csv and suggestions_CAMERA.png")
     ap.add_argument("--no-plots", action="store_true", help="write no PNGs")
     ap.add_argument("--quiet", action="store_true", help="no progress lines")
     return ap
@@ -295,6 +298,8 @@ def main(argv: list[str] | None = None) -> int:
         if not name.isidentifier():
             raise SystemExit(f"boxplus-calib: camera name '{name}' must be letters, digits and "
                              f"'_', not starting with a digit (it names keys in the output files)")
+    if args.suggest < 0:
+        raise SystemExit(f"boxplus-calib: --suggest must be >= 0, got {args.suggest}")
     _check_output_folder(Path(args.out), cams, args.write_into_input)
     models = _models(args.model, list(cams))
     known = _known_intrinsics(args.known_intrinsics, models)
@@ -394,13 +399,39 @@ def _write_outputs(cal: Any, file_names: dict[str, list[str]], args: Any) -> Non
             notes.append(f"not written: {what}: {e}")
     if not args.no_plots:
         written += _plots(cal, out, uncs, file_names)
+    suggest_lines = _suggest(cal, rep, distance, out, args, written) if args.suggest > 0 else []
     text = summarise(cal, rep, file_names, args.target, rect)
-    text += "\n" + "\n".join(["Projection uncertainty:", *unc_lines, *notes])
+    text += "\n" + "\n".join(["Projection uncertainty:", *unc_lines, *suggest_lines, *notes])
     text += "\nwrote " + ", ".join(written + ["report.txt"]) + f" to {out}"
     full = text + "\n\nAll parameters but the board poses (those are in board_poses.csv):\n" + \
         "\n".join(line for line in str(rep).splitlines() if "world_from_" not in line)
     write_atomically(out / "report.txt", full + "\n")
     print(text)
+
+
+def _suggest(cal: Any, rep: Any, distance: float, out: Path, args: Any, written: list[str]) -> list[str]:
+    """--suggest N: the board poses to capture next per camera, as lines of the
+    report, a CSV and a picture per camera (the fitted noise, as the uncertainty maps)."""
+    from boxplus.calib.suggest import suggest_views, suggestions_csv
+
+    lines, every = [f"Capture next (--suggest {args.suggest}):"], []
+    for c in cal.view_ids:
+        try:
+            got = suggest_views(cal, c, args.suggest, distance=distance,
+                                sigma_factor=rep.sigma_factor)
+        except ValueError as e:
+            lines.append(f"  {c}: no suggestion: {e}")
+            continue
+        every += got
+        lines += [f"  {s}" for s in got]
+        if not args.no_plots:
+            from boxplus.calib import plot
+
+            plot.plot_suggestions(cal, got, c, path=out / f"suggestions_{c}.png")
+            written.append(f"suggestions_{c}.png")
+    write_atomically(out / "suggested_views.csv", suggestions_csv(every))
+    written.append("suggested_views.csv")
+    return lines
 
 
 def _overlaps(cal: Any) -> list[list[int]]:
@@ -419,6 +450,10 @@ def _planned_outputs(cal: Any, args: Any) -> list[str]:
         names += ["rms_per_image.png", "rig.png"]
         for c in cal.view_ids:
             names += [f"residuals_{c}.png", f"coverage_{c}.png", f"uncertainty_{c}.png"]
+    if args.suggest > 0:
+        names.append("suggested_views.csv")
+        if not args.no_plots:
+            names += [f"suggestions_{c}.png" for c in cal.view_ids]
     return names
 
 

@@ -22,7 +22,7 @@ from boxplus.files import save_figure
 from boxplus.manifolds import SE3
 
 __all__ = ["plot_coverage", "plot_error_vectors", "plot_projection_uncertainty",
-           "plot_reprojection_errors", "plot_rig", "plot_rms_per_image"]
+           "plot_reprojection_errors", "plot_rig", "plot_rms_per_image", "plot_suggestions"]
 
 
 def _figure(ax: Any, figsize: tuple[float, float], projection: str | None = None) -> tuple[Any, Any]:
@@ -143,15 +143,48 @@ def plot_coverage(cal: Any, camera: str, ax: Any = None, path: Any = None,
         if ob.camera != camera:
             continue
         ax.scatter(ob.z[:, 0], ob.z[:, 1], s=3)
+    _image_axes(ax, w, h)
+    n = sum(len(ob.z) for ob in cal.observations if ob.camera == camera)
+    ax.set_title(title or f"{camera}: coverage ({n} corners)")
+    return _finish(fig, path)
+
+
+def plot_suggestions(cal: Any, suggestions: Sequence[Any], camera: str, ax: Any = None,
+                     path: Any = None, title: str | None = None) -> Any:
+    """Where to hold the board next (:func:`boxplus.calib.suggest.suggest_views`): the
+    corners seen so far (grey) and each suggested board's outline in the image,
+    numbered by rank, with its tilt and the worst projection σ after it."""
+    from matplotlib.patches import Polygon
+
+    fig, ax = _figure(ax, (7, 5.5))
+    w, h = cal.image_size[camera]
+    for ob in cal.observations:
+        if ob.camera == camera:
+            ax.scatter(ob.z[:, 0], ob.z[:, 1], s=2, color="0.7")
+    colours = ["tab:red", "tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    for s in suggestions:
+        c = colours[(s.rank - 1) % len(colours)]
+        ax.add_patch(Polygon(s.footprint_px, closed=True, fill=False, color=c, lw=1.8))
+        ax.text(*s.footprint_px.mean(axis=0), str(s.rank), color=c, fontsize=14, ha="center",
+                va="center", weight="bold")
+        ax.plot([], [], color=c, label=f"{s.rank}: {s.distance:.2g} away, tilt x {s.tilt_deg[0]:+.0f}°, "
+                f"y {s.tilt_deg[1]:+.0f}° → σ {s.score_after:.3g} px")
+    _image_axes(ax, w, h)
+    if suggestions:
+        ax.legend(loc="lower center", fontsize=7, bbox_to_anchor=(0.5, -0.32))
+    before = suggestions[0].score_before if suggestions else float("nan")
+    ax.set_title(title or f"{camera}: capture next (worst projection σ now {before:.3g} px)")
+    return _finish(fig, path)
+
+
+def _image_axes(ax: Any, w: float, h: float) -> None:
+    """The image's outline, its extent (v down) and pixel-labelled axes."""
     ax.add_patch(_rect(w, h))
     ax.set_xlim(-0.02 * w, 1.02 * w)
     ax.set_ylim(1.02 * h, -0.02 * h)
     ax.set_aspect("equal")
     ax.set_xlabel("u (px)")
     ax.set_ylabel("v (px)")
-    n = sum(len(ob.z) for ob in cal.observations if ob.camera == camera)
-    ax.set_title(title or f"{camera}: coverage ({n} corners)")
-    return _finish(fig, path)
 
 
 def _rect(w: float, h: float) -> Any:
