@@ -160,3 +160,48 @@ def test_plots_take_an_axes_and_return_the_figure(tmp_path):
     for name in ("cov.png", "u.png", "e.png"):
         assert (tmp_path / name).stat().st_size > 1000
     assert matplotlib.get_backend() == backend
+
+
+def test_double_sphere_reaches_the_truth_from_noise_free_corners():
+    # From the pinhole start (ξ = α = 0) alone, the solve stopped at fx 554 (truth 300)
+    # and ξ = +0.51 (truth −0.18) on these corners; the further starts find the truth.
+    k = np.array([300.0, 300.0, 320.0, 240.0, -0.18, 0.59])
+    rng = np.random.default_rng(0)
+    p = board_points()
+    z = []
+    while len(z) < 20:
+        v = random_views(1, rng, p.mean(axis=0), distance=0.35, spread=0.9, roll=1.0)[0]
+        pc = np.stack([v.tolocal(q) for q in p])
+        uv = project(k, pc, "double_sphere")
+        if np.all(pc[:, 2] > 0) and np.all((uv > 5) & (uv < [635, 475])):
+            z.append(uv)
+    cal = calibrate_mono(z, p, (640, 480), model="double_sphere", sigma=0.2)
+    np.testing.assert_allclose(cal.problem[cal.ids["camera"]].vec, k, rtol=1e-6, atol=1e-6)
+    assert cal.rms() < 1e-6
+
+
+def test_a_model_that_folds_over_inside_the_calibrated_field_is_named():
+    import warnings
+
+    import boxplus as bp
+    from boxplus.calib.fold import LensFoldWarning, check_fold_over, fold_angle, observed_field
+
+    # ρ ∝ r (1 + k1 r²) turns back where 1 + 3 k1 r² = 0: r = 0.816, θ = 39.2° for k1 = −0.5
+    k = np.array([500.0, 500.0, 320.0, 240.0, -0.5, 0.0, 0.0, 0.0, 0.0])
+    assert np.degrees(fold_angle(k, "opencv5", np.radians(60))) == pytest.approx(39.2, abs=0.2)
+    assert fold_angle(k, "opencv5", np.radians(35)) is None
+    assert fold_angle(TRUE_K, "opencv5", np.radians(60)) is None
+    rng = np.random.default_rng(2)
+    p = board_points()
+    z = [observe(TRUE_K, v, p, 0.3, rng)[0] for v in random_views(8, rng, p.mean(axis=0))]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LensFoldWarning)  # a good fit does not fold
+        cal = calibrate_mono(z, p, (640, 480), sigma=0.3)
+    field = observed_field(cal, "camera")
+    assert np.radians(15) < field < np.radians(60)
+    # the same views with a model that turns back at 0.6 of the field
+    r = np.tan(0.6 * field)
+    folding = np.array([500.0, 500.0, 320.0, 240.0, -1 / (3 * r * r), 0, 0, 0, 0])
+    cal.problem.set_value(cal.ids["camera"], bp.Rn(folding))
+    with pytest.warns(LensFoldWarning, match=r"camera: the fitted opencv5 model folds over at "):
+        assert len(check_fold_over(cal)) == 1
