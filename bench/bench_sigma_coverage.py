@@ -15,8 +15,9 @@ Families: one camera per lens model (a fixed set of board views, noise
 re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
 gravity (scale, bias, misalignment and imu_from_cam), and generated pose graphs
-(2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed). The
-joint rig and N-camera rigs are not in it yet.
+(2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed), and
+the 3-camera rig of examples/calib_rig.py (partial overlap). The joint rig
+(Le & Ng) is not in it yet.
 
 Run: .venv/bin/python bench/bench_sigma_coverage.py [--captures 100] [--family NAME]
 """
@@ -141,6 +142,29 @@ def gravity_family() -> Trial:
     return trial
 
 
+def rig_family() -> Trial:
+    """The 3-camera rig of examples/calib_rig.py (partial overlap, occlusions, radial2):
+    every camera's intrinsics and the two cam_from_cam0 poses."""
+    from boxplus.calib import calibrate_rig
+
+    ex = _example("calib_rig")
+    labels = bp.calib.models.model_labels("radial2")
+    pose_labels = codec_of(bp.SE3()).labels()
+
+    def trial(rng):
+        cal = calibrate_rig(ex.simulate(rng), (640, 480), "radial2", sigma=0.3)
+        names, parts = [], []
+        for c, k in ex.K.items():
+            parts.append(_error(cal.problem, cal.ids[c], bp.Rn(k)))
+            names += [f"{c}.{n}" for n in labels]
+        for c, truth in ex.CAM_FROM_REF.items():
+            parts.append(_error(cal.problem, cal.ids[f"{c}_from_cam0"], truth))
+            names += [f"{c}_from_cam0.{n}" for n in pose_labels]
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
 def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
     """Generated graphs (a new trajectory and noise per capture, vertex 0 fixed): the
     poses at a third, two thirds and the end of the trajectory."""
@@ -173,6 +197,7 @@ def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
 FAMILIES: dict[str, Callable[[], Trial]] = {
     **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
     "stereo[opencv5]": stereo_family,
+    "rig[3 cameras, radial2]": rig_family,
     "hand-eye": hand_eye_family,
     "accelerometer+gravity": gravity_family,
     "pose graph 2D manhattan": lambda: pose_graph_family("manhattan", 2),

@@ -19,6 +19,7 @@ and which ⊞/⊟ the solver uses for it.
 from __future__ import annotations
 
 import abc
+import sys
 from dataclasses import dataclass
 from typing import Any, Callable, ClassVar
 
@@ -408,6 +409,17 @@ class _CompoundBase(ManifoldValue):
             v = members.get(name, proto)
             object.__setattr__(self, name, _coerce_member(type(self).__name__, name, proto, v))
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # The class is made at run time: pickled by reference when its module holds
+        # it under its name (``Plane = make_compound("Plane", ...)``), else by its
+        # definition, rebuilt on loading. The members pickle as themselves, so the
+        # value comes back bit for bit (no renormalisation through from_ambient).
+        cls = type(self)
+        members = {n: _exactly(getattr(self, n)) for n in self._members}
+        if getattr(sys.modules.get(cls.__module__), cls.__qualname__, None) is cls:
+            return (_compound_with_members, (cls, members))
+        return (_rebuilt_compound, (cls.__name__, cls._prototypes, members))
+
     @classmethod
     def idx_of(cls, name: str) -> int:
         """Start of member ``name`` in the stacked tangent vector."""
@@ -479,13 +491,6 @@ class _CompoundBase(ManifoldValue):
     # Members can be reassigned (mutable), so compounds are not hashable.
     __hash__ = None  # type: ignore[assignment]
 
-    def __reduce__(self):
-        return (_rebuild_compound, (type(self), self.to_ambient()))
-
-
-def _rebuild_compound(cls: type[ManifoldValue], a: np.ndarray) -> Any:
-    return cls.from_ambient(a)
-
 
 def _coerce_member(owner: str, name: str, proto: Any, v: Any) -> Any:
     """Accepts a value of the prototype's type, or plain numbers for an Rn member."""
@@ -546,6 +551,9 @@ def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase
         codecs[name], toff[name], aoff[name] = c, t, a
         t += c.dof
         a += c.ambient_size
+    # The caller's module: where ``Plane = make_compound("Plane", ...)`` puts it, so
+    # that pickle finds the class by reference.
+    caller = sys._getframe(1).f_globals.get("__name__", __name__)
     return type(
         _name,
         (_CompoundBase,),
@@ -557,9 +565,47 @@ def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase
             "_ambient_offsets": aoff,
             "_compound_codec": None,
             "dof": t,
-            "__module__": __name__,
+            "__module__": caller,
         },
     )
+
+
+class _Exact:
+    """Pickles an SO3, SE3 or S2 member with its exact ambient bits (their own pickling
+    renormalises, which can move the last bit); unpickles as the value itself."""
+
+    def __init__(self, value: Any) -> None:
+        self.kind = type(value).__name__
+        self.ambient = np.array(value.ambient, dtype=float)
+
+    def __reduce__(self) -> tuple[Any, tuple[str, np.ndarray]]:
+        return _core.exact_value, (self.kind, self.ambient)
+
+
+def _exactly(value: Any) -> Any:
+    return _Exact(value) if type(value) in (SO3, SE3, S2) else value
+
+
+def _compound_with_members(cls: type[_CompoundBase], members: dict[str, Any]) -> _CompoundBase:
+    """A compound of class ``cls`` holding exactly ``members`` (unpickling)."""
+    out = cls.__new__(cls)
+    for name, value in members.items():
+        object.__setattr__(out, name, value)
+    return out
+
+
+_REBUILT: dict[tuple[str, bytes], type[_CompoundBase]] = {}
+
+
+def _rebuilt_compound(name: str, prototypes: dict[str, Any], members: dict[str, Any]) -> _CompoundBase:
+    """Unpickling a compound whose class no module holds: the class made again from
+    its definition (once per definition in a process), then the value."""
+    import pickle
+
+    key = (name, pickle.dumps(prototypes))
+    if key not in _REBUILT:
+        _REBUILT[key] = make_compound(name, **prototypes)
+    return _compound_with_members(_REBUILT[key], members)
 
 
 # --------------------------------------------------------------------------------------

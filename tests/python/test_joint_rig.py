@@ -433,3 +433,34 @@ def test_beam_is_the_old_active_triangulation_and_a_light_sheet_at_fixed_angle()
     for u in uv:
         m = rig.link(rig.beam_point("beam", u, beta), rig.sheet_point("sheet", u), sigma=1e-3)
         assert np.allclose(rig.problem.measurement_errors(m), 0.0, atol=1e-12)
+
+
+def test_process_pool_restarts_of_a_rig_with_a_light_sheet_equal_serial():
+    # The light sheet is a Plane compound (made at run time): its class must pickle
+    # (it failed with "Can't pickle <class 'boxplus.manifolds.Plane'>"). Processes agree
+    # with the serial run to rounding, not to the last bit: the same holds for a rig
+    # without planes (1e-14 relative in the restarts' costs; threads are bit-equal).
+    from concurrent.futures import ProcessPoolExecutor
+
+    data = make_rig(2, n_boards=6, n_planes=1, n_folds=2)  # with noise: costs of order 1
+    unknown = ["a2", "a3", "d5", "alpha2", "theta3", "theta5"]
+    a, b = _noise_free_rig(data, unknown, False), _noise_free_rig(data, unknown, False)
+    ra = a.solve(restarts=2, seed=3)
+    with ProcessPoolExecutor(2) as ex:
+        rb = b.solve(restarts=2, seed=3, executor=ex)
+    np.testing.assert_allclose(ra.restarts.costs, rb.restarts.costs, rtol=1e-12)
+    sheet = a.ids["laser.sheet"]
+    np.testing.assert_allclose(a.problem[sheet].to_ambient(), b.problem[sheet].to_ambient(), atol=1e-9)
+
+
+def test_dh_unknowns_are_stored_in_table_order_and_read_by_label():
+    data = make_rig(0, n_boards=3, n_planes=1, n_folds=3)
+    rig = JointRig(root="arm")
+    arm = DHArm("arm", data.dh_true, unknown=["a3", "theta1", "alpha2"], mount=data.end_from_board)
+    rig.add_system(arm)
+    assert arm.unknown_labels == ["theta1", "alpha2", "a3"]  # table order, not the list's
+    values = rig.dh_values("arm")
+    assert list(values) == ["theta1", "alpha2", "a3"]
+    assert values["a3"] == data.dh_true[2, 2] and values["alpha2"] == data.dh_true[1, 3]
+    with pytest.raises(KeyError, match="unknown system 'nope'"):
+        rig.dh_values("nope")

@@ -84,7 +84,10 @@ class DHArm:
         The maker's table, rows [θ offset, d, a, α] (m, rad).
     convention : "standard" or "modified"
     unknown : "all", a list of labels (``dh_labels``: "a2", "theta3", ...) or an (n, 4) bool mask
-        Entries estimated; the others stay at their nominal values.
+        Entries estimated; the others stay at their nominal values. The rig's variable
+        ``<name>.dh`` holds them in table order (row by row, θ, d, a, α in each row),
+        whatever the order of this list: ``unknown_labels`` is that order, and
+        :meth:`JointRig.dh_values` gives them by label.
     prior_sigma : (length, angle), an (n, 4) array, or None
         σ of the Gaussian prior of each unknown entry about its nominal value
         (None: no prior).
@@ -760,6 +763,15 @@ class JointRig:
             raise ValueError(f"the graph of systems is not connected: {missing} share no term with "
                              f"'{self.root}' (directly or through other systems); add links, shared "
                              f"planes or projections")
+
+    def dh_values(self, arm: str) -> dict[str, float]:
+        """The current values of arm ``arm``'s unknown DH entries by label ("a2": 0.43,
+        ...), in the table order the variable ``<arm>.dh`` stores them in."""
+        system = self._system(arm, DHArm, f"dh_values of '{arm}'")
+        if f"{arm}.dh" not in self.ids:
+            return {}
+        values = self.problem[self.ids[f"{arm}.dh"]].vec
+        return dict(zip(system.unknown_labels, (float(v) for v in values)))
 
     def degeneracy(self) -> list[tuple[float, list[str]]]:
         """Directions the data cannot determine: (singular value ratio, parameter names)
