@@ -64,7 +64,44 @@ def calibrate(data):
                     group="camera")
         o.add_relative_pose(G, board_from_base, board_from_gripper, sigma=data["robot_sigma"], group="robot")
     o.solve()
-    return o, dict(cam_from_gripper=cam_from_gripper, board_from_base=board_from_base), o[cam_from_gripper].inverse()
+    ids = dict(cam_from_gripper=cam_from_gripper, board_from_base=board_from_base, camera=camera)
+    return o, ids, o[cam_from_gripper].inverse()
+
+
+def robot_pose_candidates(o, ids, rng, n=30):
+    """n robot poses (base_from_gripper) that show the whole board, from the current
+    estimates of the hand–eye and board transforms."""
+    p = board_points()
+    X, Zb = o[ids["cam_from_gripper"]], o[ids["board_from_base"]]
+    out: list[bp.SE3] = []
+    while len(out) < n:
+        board_from_cam = random_views(1, rng, p.mean(axis=0), roll=1.2, spread=0.5)[0]
+        if observe(TRUE_K, board_from_cam, p, 0.0, rng)[1].all():
+            out.append(Zb.inverse() * board_from_cam * X)  # base_from_gripper
+    return out
+
+
+def suggest_robot_poses(o, ids, data, candidates):
+    """The candidate robot poses ranked by the largest σ of the hand–eye transform
+    (cam_from_gripper) they would leave (:func:`boxplus.calib.suggest.rank_candidates`):
+    [(index, σ)], best first. Each candidate adds a view at the pixels and the robot
+    reading the current estimates predict."""
+    from boxplus.calib.suggest import rank_candidates
+
+    X, Zb, k = o[ids["cam_from_gripper"]], o[ids["board_from_base"]], o[ids["camera"]].vec
+
+    def capture(G):
+        def add(q):
+            board_from_gripper = q.add_random_var(Zb * G)
+            uv = observe(k, Zb * G * X.inverse(), data["p"], 0.0, np.random.default_rng(0),
+                         image_size=None)[0]
+            add_board(q, uv, ids["camera"], board_from_gripper, ids["cam_from_gripper"], data["p"],
+                      sigma=data["pixel_sigma"], group="camera")
+            q.add_relative_pose(G, ids["board_from_base"], board_from_gripper, sigma=data["robot_sigma"],
+                                group="robot")
+        return add
+
+    return rank_candidates(o, [capture(G) for G in candidates], [ids["cam_from_gripper"]])
 
 
 def opencv_estimates(data):

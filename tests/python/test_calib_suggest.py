@@ -69,3 +69,32 @@ def test_suggestions_refuse_fixed_intrinsics_and_plot(tmp_path):
         suggest_views(cal)
     with pytest.raises(ValueError, match="no camera 'nope'"):
         suggest_views(cal, "nope")
+
+
+def test_hand_eye_robot_poses_ranked_by_the_sigma_they_leave():
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "hand_eye_calibration.py"
+    spec = importlib.util.spec_from_file_location("hand_eye_calibration", path)
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    rng = np.random.default_rng(7)
+    data = ex.simulate(rng, pixel_sigma=0.5, n=4)
+    o, ids, _ = ex.calibrate(data)
+    candidates = ex.robot_pose_candidates(o, ids, rng, n=20)
+    ranked = ex.suggest_robot_poses(o, ids, data, candidates)
+    assert sorted(i for i, _ in ranked) == list(range(20))
+    assert ranked[0][1] < 0.8 * ranked[-1][1]
+
+    def sigma_after(G):
+        # the robot goes to G; the camera truly sees the board from Z⁻¹ G X
+        board_from_cam = ex.TRUTH["base_from_board"].inverse() * G * ex.TRUTH["gripper_from_cam"]
+        d = {**data, "z": data["z"] + [ex.observe(ex.TRUE_K, board_from_cam, data["p"], 0.5, rng)[0]],
+             "G": data["G"] + [ex.perturb(G, 1e-4, 2e-4, rng)]}
+        o2, ids2, _ = ex.calibrate(d)
+        return float(np.max(o2.std(ids2["cam_from_gripper"])))
+
+    best, worst = sigma_after(candidates[ranked[0][0]]), sigma_after(candidates[ranked[-1][0]])
+    assert best == pytest.approx(ranked[0][1], rel=0.3)  # the prediction holds on the truth
+    assert best < worst

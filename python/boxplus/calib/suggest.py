@@ -28,7 +28,7 @@ captured, so they complement each other.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,8 +37,8 @@ import numpy as np
 from boxplus.calib.models import project, rays
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["ViewSuggestion", "image_grid_jacobians", "rotation_onto", "suggest_views", "suggestions_csv",
-           "worst_projection_sigma"]
+__all__ = ["ViewSuggestion", "image_grid_jacobians", "rank_candidates", "rotation_onto", "suggest_views",
+           "suggestions_csv", "worst_projection_sigma"]
 
 
 @dataclass
@@ -249,3 +249,26 @@ def suggestions_csv(suggestions: list[ViewSuggestion]) -> str:
                                f"{s.score_before:.6g}", f"{s.score_after:.6g}",
                                *(f"{x:.9g}" for x in a)]))
     return "\n".join(lines) + "\n"
+
+
+def rank_candidates(problem: Any, candidates: Sequence[Callable[[Any], None]], variables: Sequence[int],
+                    score: Callable[[np.ndarray], float] | None = None) -> list[tuple[int, float]]:
+    """Ranks candidate captures of any problem by the covariance they would leave.
+
+    Each candidate is a function that adds to a copy of ``problem`` what the capture
+    would bring — its new variables and its measurements, at the values predicted
+    from the current estimate (noise-free; only the Jacobians matter to the
+    covariance). The joint covariance of ``variables`` (e.g. a hand–eye
+    transform) after each is scored (default: the largest σ of its tangent
+    directions) and the candidates are returned as ``(index, score)``, best first.
+    The generic counterpart of :func:`suggest_views`, for robot poses of a hand–eye
+    calibration, a joint rig's next arm pose, ...: one copy and one sparse
+    covariance per candidate.
+    """
+    measure = score or (lambda c: float(np.sqrt(np.max(np.diag(c)))))
+    out = []
+    for i, add in enumerate(candidates):
+        q = problem.copy()
+        add(q)
+        out.append((i, measure(np.asarray(q.joint_covariance(list(variables))))))
+    return sorted(out, key=lambda r: r[1])
