@@ -411,13 +411,13 @@ def test_noise_free_views_recover_the_true_table_mount_and_light_sheet(mount_unk
     assert np.allclose(P @ L.R.T + L.pos, P_true @ data.arm_from_cam2.R.T + data.arm_from_cam2.pos, atol=1e-7)
 
 
-def test_beam_is_the_old_active_triangulation_and_a_light_sheet_at_fixed_angle():
-    """The angle-per-point projector (Le & Ng eq. 10) is the special case: Beam points equal
-    ActiveTriangulation's, and a LightSheet holding the sheet of one angle gives the same points."""
-    from boxplus.joint import ActiveTriangulation, camera
+def test_beam_is_a_light_sheet_at_fixed_angle_and_hits_the_ray_plane_intersection():
+    """The angle-per-point projector (Le & Ng eq. 10): a Beam point is the camera ray of
+    the pixel cut by the laser's plane at that angle, and a LightSheet holding the sheet
+    of one angle gives the same points."""
+    from boxplus.calib.models import rays
 
     cam_from_laser = bp.SE3(bp.SO3.exp([0.02, 0.3, -0.01]), [0.25, -0.01, 0.03])
-    old = ActiveTriangulation("old", camera=camera(600.0, 322.0, 238.0, -0.10), cam_from_laser=cam_from_laser)
     rig = JointRig()
     rig.add_camera("cam", K1)
     rig.add_system(Beam("beam", "cam", cam_from_laser))
@@ -425,10 +425,11 @@ def test_beam_is_the_old_active_triangulation_and_a_light_sheet_at_fixed_angle()
     n = cam_from_laser.R @ [np.cos(beta), 0.0, -np.sin(beta)]
     rig.add_system(LightSheet("sheet", "cam", np.r_[n, n @ cam_from_laser.pos]), pose=bp.SE3())
     uv = np.array([[300.0, 200.0], [350.0, 260.0], [280.0, 300.0]])
-    p_old = old.evaluate(np.column_stack([uv, np.full(3, beta)]))
+    r = rays(K1, uv, "simple_radial")  # [x, y, 1] in the camera frame
+    p_ray = r * ((n @ cam_from_laser.pos) / (r @ n))[:, None]
     p_beam = np.array([rig.evaluate(rig.beam_point("beam", u, beta)) for u in uv])
     p_sheet = np.array([rig.evaluate(rig.sheet_point("sheet", u)) for u in uv])
-    assert np.allclose(p_beam, p_old, atol=1e-12) and np.allclose(p_sheet, p_old, atol=1e-12)
+    assert np.allclose(p_beam, p_ray, atol=1e-9) and np.allclose(p_sheet, p_ray, atol=1e-9)
     # and the C++ terms agree with these NumPy values: a link between the two is zero
     for u in uv:
         m = rig.link(rig.beam_point("beam", u, beta), rig.sheet_point("sheet", u), sigma=1e-3)
@@ -464,3 +465,56 @@ def test_dh_unknowns_are_stored_in_table_order_and_read_by_label():
     assert values["a3"] == data.dh_true[2, 2] and values["alpha2"] == data.dh_true[1, 3]
     with pytest.raises(KeyError, match="unknown system 'nope'"):
         rig.dh_values("nope")
+
+
+def test_a_range_sensor_and_an_arm_recover_the_table_and_the_pose_jointly():
+    """Noise-free points of the arm's target measured by a range sensor: the unknown DH
+    entries and the sensor's pose come back exactly."""
+    data = make_rig(1, n_boards=8, n_planes=1, n_folds=2, sigma_px=0.0, sigma_encoder=0.0)
+    lidar_from_arm = bp.SE3(bp.SO3.exp([0.1, -0.2, 0.3]), [0.5, 0.1, -0.2])
+    unknown = ["a2", "a3", "alpha2", "d4"]
+    table = data.dh_true.copy()
+    for lab in unknown:
+        j, c = int(lab[-1]) - 1, ("theta", "d", "a", "alpha").index(lab[:-1])
+        table[j, c] = data.dh_nominal[j, c]
+    rig = JointRig(root="arm")
+    rig.add_system(DHArm("arm", table, unknown=unknown, mount=data.end_from_board))
+    rig.add_system(RangeSensor("lidar"), pose=bp.SE3(bp.SO3.exp([0.12, -0.18, 0.31]), [0.49, 0.11, -0.2]))
+    for b in data.boards:
+        for c in data.board[::6]:
+            p_arm = geometry_point(data, b.joints, c)
+            p_lidar = lidar_from_arm.fromlocal(p_arm)
+            rig.link(rig.sensor_point("lidar", p_lidar), rig.arm_point("arm", b.joints, c), sigma=1e-4)
+    r = rig.solve(function_tolerance=1e-15, gradient_tolerance=1e-15, parameter_tolerance=1e-15)
+    assert r.termination == "convergence"
+    got = rig.dh_values("arm")
+    for lab in unknown:
+        j, c = int(lab[-1]) - 1, ("theta", "d", "a", "alpha").index(lab[:-1])
+        assert got[lab] == pytest.approx(data.dh_true[j, c], abs=1e-7), lab
+    assert np.linalg.norm(rig.pose("lidar").inverse() - lidar_from_arm) < 1e-7
+
+
+def geometry_point(data, joints, c):
+    """The arm's target point c in the arm's frame, from the NumPy twin of the C++ term."""
+    from boxplus.joint.geometry import dh_pose
+
+    T = dh_pose(data.dh_true, joints, data.convention, None, data.end_from_board)
+    return T.R @ c + T.pos
+
+
+def test_coplanar_points_estimate_their_plane():
+    """A wall seen by a range sensor: the plane variable converges to the wall."""
+    rng = np.random.default_rng(3)
+    n = np.array([0.2, 0.1, 1.0]) / np.linalg.norm([0.2, 0.1, 1.0])
+    u = np.cross(n, [1.0, 0, 0])
+    u /= np.linalg.norm(u)
+    P = 1.5 * n + rng.uniform(-1, 1, (20, 1)) * u + rng.uniform(-1, 1, (20, 1)) * np.cross(n, u)
+    rig = _two_systems()
+    wall = rig.plane("wall")
+    rig.coplanar([rig.sensor_point("lidar", p) for p in P], wall, sigma=1e-3)
+    for p in P[:4]:
+        rig.link(rig.sensor_point("lidar", p), rig.sensor_point("tof", p), sigma=1e-3)
+    rig.solve()
+    plane = rig.plane_in_root(wall)
+    s = np.sign(plane[:3] @ n)
+    assert np.allclose(s * plane[:3], n, atol=1e-9) and np.isclose(s * plane[3], 1.5)

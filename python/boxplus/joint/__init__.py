@@ -1,20 +1,16 @@
 """Joint calibration of whole systems of sensors (Le & Ng, IROS 2009).
 
-* :mod:`~boxplus.joint.systems`: 3D systems p = I(α, u) — :class:`StereoPair`,
-  :class:`ActiveTriangulation`, :class:`RobotArm`, :class:`RangeFinder`; new
-  kinds subclass :class:`ThreeDSystem`;
-* :mod:`~boxplus.joint.constraints`: distance preservation, coplanarity and
-  collinearity with :data:`Plane` and :data:`Line` estimated jointly;
-* :class:`JointCalibration`: any graph of systems and links, one objective
-  Σ Intr + γ Σ Extr, connectivity checks, Horn initialisation;
-* :func:`horn`, :func:`solve_with_restarts`, :func:`cross_validate`,
-  :func:`calibrate_incrementally`;
-* :class:`JointRig` (:mod:`~boxplus.joint.rig`): the built-in systems as C++
-  autodiff terms — :class:`DHArm` (standard/modified DH, unknown subsets with
-  priors, encoder noise, known or unknown mount), :class:`Stereo` (reprojection
-  in both images), :class:`LightSheet` and :class:`Beam` (laser triangulation),
+* :class:`JointRig` (:mod:`~boxplus.joint.rig`): systems as C++ autodiff terms —
+  :class:`DHArm` (standard/modified DH, unknown subsets with priors, encoder
+  noise, known or unknown mount), :class:`Stereo` (reprojection in both images),
+  :class:`LightSheet` and :class:`Beam` (laser triangulation),
   :class:`RangeSensor`, :class:`Camera` (reprojection of any system's points);
-  links, distances, planes and lines across systems, each with its full Σ;
+  links, distances, planes and lines across systems, each with its full Σ; any
+  other measurement goes on ``rig.problem`` (an :class:`~boxplus.OptimizationProblem`)
+  beside them;
+* :mod:`~boxplus.joint.constraints`: :data:`Plane` and :data:`Line` and their fits;
+* :func:`horn`; :func:`solve_with_restarts`, :func:`cross_validate` and :func:`kfold`
+  (tools of any problem, :mod:`boxplus.restarts` and :mod:`boxplus.crossval`);
 * :mod:`~boxplus.joint.synthetic`: a seeded rig like Le & Ng's Sec. VIII robot;
   :mod:`~boxplus.joint.geometry`: NumPy twins of the C++ terms.
 
@@ -22,13 +18,9 @@ SE(3) = R³ × SO(3), tangent [translation, rotation]; poses map local to
 parent coordinates (``b_from_a.fromlocal(p_in_a) = p_in_b``).
 """
 
-from boxplus.joint.calibrator import JointCalibration, JointResult
-from boxplus.joint.camera import CameraIntrinsics, project, ray
+from boxplus.crossval import CrossValidation, cross_validate, kfold
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
-from boxplus.joint.crossval import CrossValidation, cross_validate, kfold
 from boxplus.joint.horn import horn
-from boxplus.joint.incremental import EXTRINSICS, calibrate_incrementally
-from boxplus.joint.restarts import RestartResult, default_perturbation, solve_with_restarts
 from boxplus.joint.rig import (
     Beam,
     Camera,
@@ -42,20 +34,10 @@ from boxplus.joint.rig import (
     SurfaceRef,
     dh_labels,
 )
-from boxplus.joint.systems import (
-    ActiveTriangulation,
-    RangeFinder,
-    RobotArm,
-    StereoPair,
-    ThreeDSystem,
-    camera,
-)
+from boxplus.restarts import RestartResult, default_perturbation, solve_with_restarts
 
 __all__ = [
-    "Beam", "Camera", "DHArm", "JointRig", "LightSheet", "PointRef", "RangeSensor", "RigResult", "Stereo",
-    "SurfaceRef", "dh_labels",
-    "EXTRINSICS", "ActiveTriangulation", "CameraIntrinsics", "CrossValidation", "JointCalibration",
-    "JointResult", "Line", "Plane", "RangeFinder", "RestartResult", "RobotArm", "StereoPair",
-    "ThreeDSystem", "calibrate_incrementally", "camera", "cross_validate", "default_perturbation",
-    "fit_line", "fit_plane", "horn", "kfold", "project", "ray", "solve_with_restarts",
+    "Beam", "Camera", "CrossValidation", "DHArm", "JointRig", "LightSheet", "Line", "Plane", "PointRef",
+    "RangeSensor", "RestartResult", "RigResult", "Stereo", "SurfaceRef", "cross_validate",
+    "default_perturbation", "dh_labels", "fit_line", "fit_plane", "horn", "kfold", "solve_with_restarts",
 ]

@@ -54,11 +54,11 @@ from boxplus import _core
 from boxplus._journal import journalled
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
 from boxplus.joint.geometry import dh_pose, plane_in, sheet_points, triangulate
-from boxplus.joint.restarts import RestartResult, solve_with_restarts
 from boxplus.losses import LossSpec
 from boxplus.manifolds import S2, SE3, Rn
 from boxplus.noise import NoiseModel, noise_model
 from boxplus.problem import OptimizationProblem
+from boxplus.restarts import RestartResult, solve_with_restarts
 
 __all__ = ["Beam", "Camera", "DHArm", "JointRig", "LightSheet", "PointRef", "RangeSensor", "RigResult",
            "Stereo", "SurfaceRef", "dh_labels"]
