@@ -14,7 +14,8 @@ right, z = e / σ is standard normal:
 Families: one camera per lens model (a fixed set of board views, noise
 re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
-gravity (scale, bias, misalignment and imu_from_cam), and generated pose graphs
+gravity (scale, bias, misalignment and imu_from_cam), camera–IMU calibration in
+motion (imu_from_cam, time offset, biases), and generated pose graphs
 (2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed), and
 the 3-camera rig of examples/calib_rig.py (partial overlap). The joint rig
 (Le & Ng) is not in it yet.
@@ -165,6 +166,26 @@ def rig_family() -> Trial:
     return trial
 
 
+def camera_imu_family() -> Trial:
+    """Camera–IMU in motion (boxplus.calib.camera_imu): a new swing, noise and truth
+    offset per capture; imu_from_cam, the time offset and both biases."""
+    from boxplus.calib.camera_imu import calibrate_camera_imu, simulate_camera_imu
+
+    def trial(rng):
+        data, truth, K = simulate_camera_imu(rng, duration=6.0, time_offset=float(rng.uniform(-0.03, 0.03)))
+        cal = calibrate_camera_imu(data, K, pixel_sigma=0.3)
+        o, ids = cal.problem, cal.ids
+        parts = [_error(o, ids["imu_from_cam"], truth["imu_from_cam"]),
+                 _error(o, ids["time_offset"], bp.Rn([truth["time_offset"]])),
+                 _error(o, ids["gyro_bias"], bp.Rn(truth["gyro_bias"])),
+                 _error(o, ids["accel_bias"], bp.Rn(truth["accel_bias"]))]
+        names = ([f"imu_from_cam.{n}" for n in codec_of(bp.SE3()).labels()] + ["time_offset"]
+                 + [f"gyro_bias.{a}" for a in "xyz"] + [f"accel_bias.{a}" for a in "xyz"])
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
 def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
     """Generated graphs (a new trajectory and noise per capture, vertex 0 fixed): the
     poses at a third, two thirds and the end of the trajectory."""
@@ -200,6 +221,7 @@ FAMILIES: dict[str, Callable[[], Trial]] = {
     "rig[3 cameras, radial2]": rig_family,
     "hand-eye": hand_eye_family,
     "accelerometer+gravity": gravity_family,
+    "camera-IMU in motion": camera_imu_family,
     "pose graph 2D manhattan": lambda: pose_graph_family("manhattan", 2),
     "pose graph 3D sphere": lambda: pose_graph_family("sphere", 3),
 }

@@ -7,6 +7,8 @@
 #include "../bindings.h"
 #include "../factor.h"
 #include "boxplus/factors/imu/gravity.h"
+#include "boxplus/factors/imu/se3_spline.h"
+#include "boxplus/factors/imu/spline_terms.h"
 
 namespace py = pybind11;
 
@@ -31,6 +33,64 @@ void RegisterImuFactors(py::module_& m) {
       "Gravity in the IMU: r = W (T R(imu_from_rig) R(world_from_rig)ᵀ g_in_world + b − z); "
       "accel ignored for model 'rotation'; imu_size 4 (SO3 imu_from_rig) or 7 (SE3); see "
       "factors/imu/gravity.h.");
+
+  m.def(
+      "spline_evaluate",
+      [](const Eigen::Matrix<double, 4, 7, Eigen::RowMajor>& knots, double u, double dt) {
+        const double* k[4] = {knots.row(0).data(), knots.row(1).data(), knots.row(2).data(),
+                              knots.row(3).data()};
+        Eigen::Vector3d p, v, a, w;
+        Eigen::Vector4d q;
+        spline::Evaluate(k, u, dt, p.data(), q.data(), v.data(), a.data(), w.data());
+        return py::make_tuple(p, q, v, a, w);
+      },
+      py::arg("knots"), py::arg("u"), py::arg("dt"),
+      "(p, q, v, a, ω_body) of the R³ × SO(3) cubic B-spline segment whose 4 control points "
+      "are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).");
+  m.def(
+      "spline_gyro_factor",
+      [](const std::vector<int>& knots, int bias, double u, double dt, const Eigen::Vector3d& z,
+         const NoiseModel& noise) {
+        if (knots.size() != 4) throw py::value_error("spline_gyro_factor: 4 control points");
+        std::vector<int> ids = knots;
+        ids.push_back(bias);
+        return Factor{MakeSplineGyroFactor(u, dt, z, noise), ids, noise};
+      },
+      py::arg("knots"), py::arg("bias"), py::arg("u"), py::arg("dt"), py::arg("z"),
+      py::arg("noise"), "r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.");
+  m.def(
+      "spline_accel_factor",
+      [](const std::vector<int>& knots, int bias, int gravity, double u, double dt,
+         const Eigen::Vector3d& z, const NoiseModel& noise, double g) {
+        if (knots.size() != 4) throw py::value_error("spline_accel_factor: 4 control points");
+        std::vector<int> ids = knots;
+        ids.push_back(bias);
+        ids.push_back(gravity);
+        return Factor{MakeSplineAccelFactor(u, dt, z, noise, g), ids, noise};
+      },
+      py::arg("knots"), py::arg("bias"), py::arg("gravity"), py::arg("u"), py::arg("dt"),
+      py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
+      "r = W (R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of "
+      "gravity in the world frame); see factors/imu/spline_terms.h.");
+  m.def(
+      "spline_reprojection_factor",
+      [](const std::string& model, const std::vector<int>& knots, int imu_from_cam, int offset,
+         int intrinsics, double t_rel, double dt, const Eigen::Vector2d& z, const NoiseModel& noise,
+         const Eigen::Vector3d& p_in_world) {
+        if (knots.size() != 4)
+          throw py::value_error("spline_reprojection_factor: 4 control points");
+        std::vector<int> ids = knots;
+        ids.push_back(imu_from_cam);
+        ids.push_back(offset);
+        ids.push_back(intrinsics);
+        return Factor{MakeSplineReprojectionFactor(model, t_rel, dt, z, noise, p_in_world), ids,
+                      noise};
+      },
+      py::arg("model"), py::arg("knots"), py::arg("imu_from_cam"), py::arg("offset"),
+      py::arg("intrinsics"), py::arg("t_rel"), py::arg("dt"), py::arg("z"), py::arg("noise"),
+      py::arg("p_in_world"),
+      "A target corner seen at camera time t_c = t_i + t_rel: r = W (π(k, cam_from_world(t_c + "
+      "d) p) − z); see factors/imu/spline_terms.h.");
 }
 
 }  // namespace boxplus::python

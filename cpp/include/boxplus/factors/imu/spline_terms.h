@@ -1,0 +1,50 @@
+// The terms of camera–IMU calibration in motion on a spline trajectory
+// (se3_spline.h: world_from_imu(t), world = the calibration target's frame),
+// after Furgale, Rehder & Siegwart (IROS 2013, eqs. 5–8).
+//
+// Gyroscope (3):      r = W (ω_imu(t) + b_g − z)
+//   blocks: the segment's 4 control points (SE3 7 each), b_g (R³).
+// Accelerometer (3):  r = W (R(t)ᵀ (a(t) − |g| ĝ) + b_a − z)
+//   the specific force in the IMU frame; ĝ the direction of gravity in the
+//   world (target) frame, a unit vector (S² block), |g| a constant (m/s²): at
+//   rest the reading is −|g| R(t)ᵀ ĝ, "up".
+//   blocks: 4 control points, b_a (R³), ĝ (S² 3).
+// Reprojection (2):   r = W (π(k, cam_from_world(t_c + d) · p_in_world) − z)
+//   a target corner seen by a camera at its own timestamp t_c; the IMU clock
+//   reads t_c + d (d the time offset, a 1-vector block), the camera's pose is
+//   world_from_imu(t_c + d) · imu_from_cam, π any camera model of
+//   camera/models.h with intrinsics block k.
+//   blocks: 4 control points, imu_from_cam (SE3 7), d (R¹), k (the model's size).
+// Times enter as u = (t − t_i)/Δt of the segment t_i the caller chose: for the
+// gyroscope and accelerometer t is a sample's IMU time; for a reprojection,
+// `t_rel` = t_c − t_i and u = (t_rel + d)/Δt, so d moves u (extrapolating
+// past the segment when d moves a sample across a knot; se3_spline.h).
+// Biases here are constant over the data (a random walk between bias knots is
+// not modelled yet).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <ceres/cost_function.h>
+
+#include <Eigen/Core>
+
+#include "boxplus/noise.h"
+
+namespace boxplus {
+
+std::shared_ptr<ceres::CostFunction> MakeSplineGyroFactor(double u, double dt,
+                                                          const Eigen::Vector3d& z,
+                                                          const NoiseModel& noise);
+
+std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
+                                                           const Eigen::Vector3d& z,
+                                                           const NoiseModel& noise,
+                                                           double gravity_magnitude = 9.81);
+
+std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
+    const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
+    const NoiseModel& noise, const Eigen::Vector3d& p_in_world);
+
+}  // namespace boxplus

@@ -1,0 +1,162 @@
+#include "boxplus/factors/imu/spline_terms.h"
+
+#include <cmath>
+#include <utility>
+
+#include <ceres/autodiff_cost_function.h>
+
+#include "boxplus/errors.h"
+#include "boxplus/factors/camera/models.h"
+#include "boxplus/factors/imu/se3_spline.h"
+#include "boxplus/manifolds/rotation_math.h"
+
+namespace boxplus {
+namespace {
+
+constexpr int kKnot = 7;  // a control point: SE3 [p, q]
+
+// One IMU sample: where it falls on its segment, the reading and its W.
+struct ImuSample {
+  double u, dt;
+  Eigen::Vector3d z;
+  Eigen::Matrix3d W;
+
+  // The spline's quantities at the sample (any pointer may be null).
+  template <typename T>
+  void Evaluate(const T* k0, const T* k1, const T* k2, const T* k3, T* q, T* a, T* omega) const {
+    const T* knots[4] = {k0, k1, k2, k3};
+    spline::Evaluate(knots, T(u), dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr), a,
+                     omega);
+  }
+
+  // r = W (predicted + bias − z)
+  template <typename T>
+  void Residual(const T* predicted, const T* bias, T* r) const {
+    for (int i = 0; i < 3; ++i) r[i] = predicted[i] + bias[i] - T(z[i]);
+    WhitenInPlace<3>(W, r);
+  }
+};
+
+class GyroFunctor {
+ public:
+  explicit GyroFunctor(ImuSample s) : s_(std::move(s)) {}
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias, T* r) const {
+    T omega[3];
+    s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
+    s_.Residual(omega, bias, r);
+    return true;
+  }
+
+ private:
+  ImuSample s_;
+};
+
+class AccelFunctor {
+ public:
+  AccelFunctor(ImuSample s, double g) : s_(std::move(s)), g_(g) {}
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
+                  const T* gravity_dir, T* r) const {
+    T q[4], a[3];
+    s_.Evaluate(k0, k1, k2, k3, q, a, static_cast<T*>(nullptr));
+    T f_world[3], q_inv[4], f[3];
+    for (int i = 0; i < 3; ++i) f_world[i] = a[i] - T(g_) * gravity_dir[i];
+    QuatConjugate(q, q_inv);
+    QuatRotatePoint(q_inv, f_world, f);
+    s_.Residual(f, bias, r);
+    return true;
+  }
+
+ private:
+  ImuSample s_;
+  double g_;
+};
+
+template <class Model>
+class ReprojectionFunctor {
+ public:
+  ReprojectionFunctor(double t_rel, double dt, const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
+                      const Eigen::Vector3d& p)
+      : t_rel_(t_rel), dt_(dt), z_(z), W_(W), p_(p) {}
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* imu_from_cam,
+                  const T* offset, const T* intrinsics, T* r) const {
+    const T* knots[4] = {k0, k1, k2, k3};
+    const T u = (T(t_rel_) + offset[0]) / T(dt_);
+    T p_wi[3], q_wi[4];
+    spline::Evaluate(knots, u, dt_, p_wi, q_wi, static_cast<T*>(nullptr), static_cast<T*>(nullptr),
+                     static_cast<T*>(nullptr));
+    // p_in_imu = q_wiᵀ (p_w − p_wi); p_in_cam = q_icᵀ (p_in_imu − p_ic)
+    T d[3], q_inv[4], p_imu[3], e[3], q_ic_inv[4], p_cam[3];
+    for (int i = 0; i < 3; ++i) d[i] = T(p_[i]) - p_wi[i];
+    QuatConjugate(q_wi, q_inv);
+    QuatRotatePoint(q_inv, d, p_imu);
+    for (int i = 0; i < 3; ++i) e[i] = p_imu[i] - imu_from_cam[i];
+    QuatConjugate(imu_from_cam + 3, q_ic_inv);
+    QuatRotatePoint(q_ic_inv, e, p_cam);
+    T uv[2];
+    Model::ProjectPoint(intrinsics, p_cam, uv);
+    r[0] = uv[0] - T(z_[0]);
+    r[1] = uv[1] - T(z_[1]);
+    WhitenInPlace<2>(W_, r);
+    return true;
+  }
+
+ private:
+  double t_rel_, dt_;
+  Eigen::Vector2d z_;
+  Eigen::Matrix2d W_;
+  Eigen::Vector3d p_;
+};
+
+void CheckTime(double u, double dt, const char* what) {
+  BOXPLUS_CHECK(std::isfinite(u) && std::isfinite(dt) && dt > 0, what,
+                ": u and dt must be finite, dt > 0 (got u = ", u, ", dt = ", dt, ")");
+}
+
+}  // namespace
+
+std::shared_ptr<ceres::CostFunction> MakeSplineGyroFactor(double u, double dt,
+                                                          const Eigen::Vector3d& z,
+                                                          const NoiseModel& noise) {
+  CheckTime(u, dt, "spline gyro factor");
+  BOXPLUS_CHECK(z.allFinite(), "spline gyro factor: non-finite reading");
+  const Eigen::Matrix3d W = noise.Fixed<3>("spline gyro factor");
+  return std::make_shared<
+      ceres::AutoDiffCostFunction<GyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3>>(
+      new GyroFunctor(ImuSample{u, dt, z, W}));
+}
+
+std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
+                                                           const Eigen::Vector3d& z,
+                                                           const NoiseModel& noise,
+                                                           double gravity_magnitude) {
+  CheckTime(u, dt, "spline accelerometer factor");
+  BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0,
+                "spline accelerometer factor: non-finite reading or |g| <= 0");
+  const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor");
+  return std::make_shared<
+      ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
+      new AccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude));
+}
+
+std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
+    const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
+    const NoiseModel& noise, const Eigen::Vector3d& p_in_world) {
+  CheckTime(t_rel, dt, "spline reprojection factor");
+  BOXPLUS_CHECK(z.allFinite() && p_in_world.allFinite(),
+                "spline reprojection factor: non-finite pixel or target point");
+  const Eigen::Matrix2d W = noise.Fixed<2>("spline reprojection factor");
+  return camera::WithCameraModel(model, [&](auto m) -> std::shared_ptr<ceres::CostFunction> {
+    using Model = decltype(m);
+    return std::make_shared<ceres::AutoDiffCostFunction<ReprojectionFunctor<Model>, 2, kKnot, kKnot,
+                                                        kKnot, kKnot, kKnot, 1, Model::kSize>>(
+        new ReprojectionFunctor<Model>(t_rel, dt, z, W, p_in_world));
+  });
+}
+
+}  // namespace boxplus

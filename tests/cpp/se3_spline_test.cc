@@ -1,0 +1,142 @@
+// The R³ × SO(3) spline (se3_spline.h) against closed forms and central
+// differences, and the spline terms (spline_terms.h) at the truth.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "boxplus/boxplus.h"
+#include "boxplus/factors/imu/se3_spline.h"
+#include "boxplus/factors/imu/spline_terms.h"
+
+namespace boxplus {
+namespace {
+
+using Knot = Eigen::Matrix<double, 7, 1>;
+
+Knot MakeKnot(const Eigen::Vector3d& p, const SO3& R) {
+  Knot k;
+  k.head<3>() = p;
+  k.tail<4>() = R.ambient();
+  return k;
+}
+
+struct Sample {
+  Eigen::Vector3d p, v, a, w;
+  SO3 R;
+};
+
+Sample Eval(const std::vector<Knot>& k, double u, double dt) {
+  const double* knots[4] = {k[0].data(), k[1].data(), k[2].data(), k[3].data()};
+  Sample s;
+  double q[4];
+  spline::Evaluate(knots, u, dt, s.p.data(), q, s.v.data(), s.a.data(), s.w.data());
+  s.R = SO3::FromAmbient(q);
+  return s;
+}
+
+std::vector<Knot> RandomKnots(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  std::vector<Knot> k;
+  for (int j = 0; j < 4; ++j) {
+    k.push_back(MakeKnot(Eigen::Vector3d(g(rng), g(rng), g(rng)),
+                         SO3::Exp(0.6 * Eigen::Vector3d(g(rng), g(rng), g(rng)))));
+  }
+  return k;
+}
+
+// v, a and ω are the derivatives of p and R: central differences in time.
+TEST(Se3Spline, DerivativesMatchCentralDifferences) {
+  std::mt19937 rng(5);
+  const double dt = 0.1, h = 1e-5;
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::vector<Knot> k = RandomKnots(rng);
+    for (double u : {0.0, 0.3, 0.77, 1.0}) {
+      const Sample s = Eval(k, u, dt), sp = Eval(k, u + h, dt), sm = Eval(k, u - h, dt);
+      const Eigen::Vector3d v = (sp.p - sm.p) / (2 * h * dt);
+      const Eigen::Vector3d a = (sp.v - sm.v) / (2 * h * dt);
+      // body rate: Log(R(t)ᵀ R(t + τ)) / τ
+      const Eigen::Vector3d w = (sm.R.inverse() * sp.R).Log() / (2 * h * dt);
+      EXPECT_LT((v - s.v).norm(), 1e-6 * (1 + s.v.norm())) << trial << " u " << u;
+      EXPECT_LT((a - s.a).norm(), 1e-5 * (1 + s.a.norm())) << trial << " u " << u;
+      EXPECT_LT((w - s.w).norm(), 1e-6 * (1 + s.w.norm())) << trial << " u " << u;
+      EXPECT_NEAR(s.R.ambient().norm(), 1.0, 1e-12);
+    }
+  }
+}
+
+// Control points on a constant-rate rotation and a quadratic path: the spline
+// is the rotation R_i Exp((1 + u) d) at rate d/Δt and the parabola (i+1+u)² + 1/3
+// per axis (B-splines reproduce polynomials up to degree 3 up to a constant
+// for degree 2), with acceleration 2 c / Δt² exactly.
+TEST(Se3Spline, ReproducesConstantRatesAndParabolas) {
+  const double dt = 0.05;
+  const Eigen::Vector3d d(0.1, -0.2, 0.15), c(0.3, -0.1, 0.2);
+  const SO3 R0 = SO3::Exp(Eigen::Vector3d(0.4, 0.1, -0.3));
+  for (int i : {0, 3}) {
+    std::vector<Knot> k;
+    for (int j = 0; j < 4; ++j) {
+      const double n = i + j;
+      k.push_back(MakeKnot(c * n * n, R0 * SO3::Exp(n * d)));
+    }
+    for (double u : {0.0, 0.25, 0.5, 0.9}) {
+      const Sample s = Eval(k, u, dt);
+      const double n = i + 1 + u;
+      EXPECT_LT((s.p - c * (n * n + 1.0 / 3.0)).norm(), 1e-12);
+      EXPECT_LT((s.v - c * 2 * n / dt).norm(), 1e-9);
+      EXPECT_LT((s.a - c * 2 / (dt * dt)).norm(), 1e-8);
+      EXPECT_LT((s.R.inverse() * (R0 * SO3::Exp(n * d))).Log().norm(), 1e-12);
+      EXPECT_LT((s.w - d / dt).norm(), 1e-12);
+    }
+  }
+}
+
+// The three terms are zero at the truth they were built from.
+TEST(Se3Spline, TermsVanishAtTheTruth) {
+  std::mt19937 rng(9);
+  const double dt = 0.1, u = 0.42;
+  std::vector<Knot> k = RandomKnots(rng);
+  const Sample s = Eval(k, u, dt);
+  const Eigen::Vector3d bg(0.01, -0.02, 0.005), ba(0.1, 0.05, -0.2);
+  const Eigen::Vector3d g_dir = Eigen::Vector3d(0.1, 0.2, -1.0).normalized();
+  std::vector<const double*> blocks = {k[0].data(), k[1].data(), k[2].data(), k[3].data()};
+
+  auto gyro = MakeSplineGyroFactor(u, dt, s.w + bg, NoiseModel::Isotropic(3, 0.01));
+  std::vector<const double*> gb = blocks;
+  gb.push_back(bg.data());
+  Eigen::Vector3d r3;
+  ASSERT_TRUE(gyro->Evaluate(gb.data(), r3.data(), nullptr));
+  EXPECT_LT(r3.norm(), 1e-9);
+
+  const Eigen::Vector3d f = s.R.inverse() * Eigen::Vector3d(s.a - 9.81 * g_dir);
+  auto accel = MakeSplineAccelFactor(u, dt, f + ba, NoiseModel::Isotropic(3, 0.1));
+  std::vector<const double*> ab = blocks;
+  ab.push_back(ba.data());
+  ab.push_back(g_dir.data());
+  ASSERT_TRUE(accel->Evaluate(ab.data(), r3.data(), nullptr));
+  EXPECT_LT(r3.norm(), 1e-9);
+
+  // A camera 3 cm from the IMU, a time offset of 4 ms: the pixel of a point seen
+  // at camera time t_c is the projection at IMU time t_c + d.
+  const SE3 imu_from_cam(SO3::Exp(Eigen::Vector3d(0.01, 0.02, 1.5)),
+                         Eigen::Vector3d(0.03, 0, 0.01));
+  const double d = 0.004;
+  const Sample at = Eval(k, u + d / dt, dt);
+  const SE3 world_from_cam = SE3(at.R, at.p) * imu_from_cam;
+  const Eigen::Vector3d p_world = world_from_cam * Eigen::Vector3d(0.1, -0.05, 1.2);
+  const Eigen::Vector4d K(500, 500, 320, 240);
+  const Eigen::Vector3d pc = world_from_cam.inverse() * p_world;
+  const Eigen::Vector2d uv(500 * pc.x() / pc.z() + 320, 500 * pc.y() / pc.z() + 240);
+  auto proj = MakeSplineReprojectionFactor("pinhole", u * dt, dt, uv, NoiseModel::Isotropic(2, 0.5),
+                                           p_world);
+  std::vector<const double*> pb = blocks;
+  const Knot ic = imu_from_cam.ambient();
+  pb.push_back(ic.data());
+  pb.push_back(&d);
+  pb.push_back(K.data());
+  Eigen::Vector2d r2;
+  ASSERT_TRUE(proj->Evaluate(pb.data(), r2.data(), nullptr));
+  EXPECT_LT(r2.norm(), 1e-7);
+}
+
+}  // namespace
+}  // namespace boxplus

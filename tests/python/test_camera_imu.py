@@ -1,0 +1,53 @@
+"""Camera–IMU calibration in motion (#28, first part): the spline trajectory, the
+gyroscope, accelerometer and reprojection terms with a time offset, on simulated
+recordings with known truth (the true trajectory a spline on the same knot grid)."""
+
+import numpy as np
+import pytest
+from boxplus import SE3, SO3
+from boxplus.calib.camera_imu import CameraImuData, calibrate_camera_imu, simulate_camera_imu
+
+
+@pytest.mark.parametrize("seed, offset", [(0, 0.007), (1, -0.031)])
+def test_recovers_extrinsics_time_offset_biases_and_gravity_within_their_sigma(seed, offset):
+    rng = np.random.default_rng(seed)
+    ic = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+    data, truth, K = simulate_camera_imu(rng, time_offset=offset, imu_from_cam=ic)
+    cal = calibrate_camera_imu(data, K, "pinhole", pixel_sigma=0.3, gyro_sigma=0.005, accel_sigma=0.05)
+    assert cal.summary.termination == "convergence"
+    # the start needs no hand tuning: aligning the angular velocities places the offset
+    # within a few ms (finite differences of 20 Hz poses), the solve does the rest
+    assert abs(cal.initial["time_offset"] - offset) < 5e-3
+    # the user's quantities, against the truth
+    err = np.r_[cal.imu_from_cam.pos - ic.pos, (ic.rot.inverse() * cal.imu_from_cam.rot).log()]
+    assert np.linalg.norm(err[:3]) < 2e-3          # metres
+    assert np.degrees(np.linalg.norm(err[3:])) < 0.1
+    assert abs(cal.time_offset - offset) < 2e-4     # seconds
+    # and within their σ
+    assert np.all(np.abs(err) < 4 * cal.std("imu_from_cam"))
+    assert abs(cal.time_offset - offset) < 4 * cal.std("time_offset")[0]
+    assert np.all(np.abs(cal.gyro_bias - truth["gyro_bias"]) < 4 * cal.std("gyro_bias"))
+    assert np.all(np.abs(cal.accel_bias - truth["accel_bias"]) < 4 * cal.std("accel_bias"))
+    assert np.linalg.norm(cal.gravity - truth["gravity"]) < 0.05
+    # the residuals are the noise that went in
+    rms = cal.problem.rms()
+    assert rms["gyroscope"] == pytest.approx(0.005 * np.sqrt(3), rel=0.1)
+    assert rms["accelerometer"] == pytest.approx(0.05 * np.sqrt(3), rel=0.1)
+    assert rms["reprojection"] == pytest.approx(0.3 * np.sqrt(2), rel=0.1)
+
+
+def test_bad_recordings_are_refused_with_the_reason():
+    rng = np.random.default_rng(2)
+    data, _, K = simulate_camera_imu(rng, duration=3.0)
+    few = CameraImuData(data.frame_times[:5], data.corners[:5], data.imu_times, data.gyro, data.accel)
+    with pytest.raises(ValueError, match="5 frames with the target; need at least 10"):
+        calibrate_camera_imu(few, K)
+    back = CameraImuData(data.frame_times, data.corners, data.imu_times[::-1], data.gyro, data.accel)
+    with pytest.raises(ValueError, match="IMU times must increase"):
+        calibrate_camera_imu(back, K)
+    with pytest.raises(ValueError, match="pinhole has 4 intrinsics, got 3"):
+        calibrate_camera_imu(data, K[:3])
+    # clocks 0.5 s apart, beyond max_offset: a loud failure, not a silently wrong answer
+    late = CameraImuData(data.frame_times, data.corners, data.imu_times + 0.5, data.gyro, data.accel)
+    with pytest.raises(ValueError, match="did not reach a plausible answer.*timestamps"):
+        calibrate_camera_imu(late, K, pixel_sigma=0.3)
