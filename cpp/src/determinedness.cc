@@ -334,8 +334,16 @@ Eigen::MatrixXd CovarianceOfDeterminedColumns(const Sparse& jacobian, const Dete
 std::string DescribeUndetermined(const Determinedness& d,
                                  const std::function<std::string(int)>& name,
                                  const std::function<std::vector<std::string>(int)>& labels) {
+  // Past a few variables a list stops being read: the rest are counted.
+  constexpr size_t kShown = 8;
   std::string out;
+  size_t shown = 0;
   for (const auto& u : d.undetermined) {
+    if (shown == kShown) {
+      out += "; and " + std::to_string(d.undetermined.size() - kShown) + " more variables";
+      break;
+    }
+    ++shown;
     if (!out.empty()) out += "; ";
     out += "'" + name(u.variable) + "': ";
     const std::vector<std::string> l = labels ? labels(u.variable) : std::vector<std::string>{};

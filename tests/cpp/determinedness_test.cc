@@ -295,6 +295,10 @@ TEST(Determinedness, PoseChainWithoutAnchorIsAGauge) {
   ExpectError([&] { p.Covariance(ids[3]); },
               "'x0': all 6 directions (tied to 'x1', 'x2', 'x3' "
               "and 26 more)");
+  // 30 variables: eight are named, the rest counted
+  ExpectError([&] { p.Covariance(ids[3]); },
+              "'x7': all 6 directions (tied to 'x0', 'x1', 'x2' and 26 more); and 22 more "
+              "variables (add");
   p.SetFixed(ids[0]);
   EXPECT_TRUE(p.CheckDetermined().determined());
   EXPECT_EQ(p.Covariance(ids[3]).rows(), 6);

@@ -100,7 +100,8 @@ Eigen::MatrixXd CovarianceOfDeterminedColumns(const Eigen::SparseMatrix<double>&
 // "'b': x, y (tied to 'a'); 'a': x, y (tied to 'b')". `name` gives a
 // variable's name; `labels` (optional) the names of its tangent directions
 // (e.g. "rotation about z"), else they are "d0", "d1", ...; a direction that
-// mixes several is written as their combination, "0.71 x + 0.71 y".
+// mixes several is written as their combination, "0.71 x + 0.71 y". Eight
+// variables at most are named; the rest are counted ("and 22 more variables").
 std::string DescribeUndetermined(
     const Determinedness& determinedness, const std::function<std::string(int)>& name,
     const std::function<std::vector<std::string>(int)>& labels = nullptr);
