@@ -8,7 +8,6 @@ import boxplus as bp
 import numpy as np
 import pytest
 from boxplus.joint import JointRig, RangeSensor
-from boxplus.joint.synthetic import make_rig
 
 
 def _solve_quietly(p):
@@ -81,23 +80,6 @@ def test_two_range_sensors_joined_by_one_point_leave_three_directions_free():
         rig.check_determined()
     with pytest.raises(ValueError, match="'pose:b'"):
         rig.problem.std(rig.problem._names["pose:b"])
-
-
-def test_a_dh_entry_the_data_cannot_determine_is_warned_about_by_solve():
-    data = make_rig(0, n_boards=3, n_planes=1, n_folds=3)
-    from boxplus.joint import DHArm, Stereo
-
-    rig = JointRig(root="arm")
-    rig.add_camera("cam1", data.k1_true, fixed=True)
-    rig.add_camera("cam2", data.k2_true, fixed=True)
-    rig.add_system(DHArm("arm", data.dh_true, unknown=["theta1", "a2", "a3"], mount=data.end_from_board))
-    rig.add_system(Stereo("stereo", "cam1", "cam2", data.cam2_from_cam1), pose=data.arm_from_cam1)
-    rig.problem.fix(rig.ids["stereo.cam2_from_cam1"])
-    for b in data.boards:
-        for j, c in enumerate(data.board):
-            rig.project(rig.arm_point("arm", b.joints, c), "stereo", b.z1[j], camera=0, sigma=0.3)
-    with pytest.warns(bp.UndeterminedWarning, match=r"'arm.dh': .*theta1"):
-        rig.solve()
 
 
 def test_determined_covariance_beside_a_gauge_equals_the_anchored_one():

@@ -318,6 +318,9 @@ def test_unknown_dh_parameters_the_data_cannot_determine_are_named():
     assert "arm.dh.theta1" in names and "arm.dh.a2" not in names
     with pytest.raises(ValueError, match=r"cannot determine \[.*'arm.dh.theta1'"):
         rig.check_determined()
+    # and a solve says so too (it used to report convergence, θ₁ moved 2.9°, silently)
+    with pytest.warns(bp.UndeterminedWarning, match=r"'arm.dh': .*theta1"):
+        rig.solve()
 
 
 def test_bad_arm_and_term_input_is_named():

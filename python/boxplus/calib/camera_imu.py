@@ -42,9 +42,8 @@ from typing import Any
 import numpy as np
 
 from boxplus import _core
-from boxplus.calib.init import rotation_between
+from boxplus.calib.init import pose_from_rays, rotation_between
 from boxplus.calib.models import model_labels, project, rays
-from boxplus.calib.zhang import homography, pose_from_homography
 from boxplus.manifolds import S2, SE3, SO3, Rn
 from boxplus.noise import NoiseModel
 from boxplus.problem import OptimizationProblem
@@ -197,7 +196,7 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     t_cam, world_from_cam = [], []
     for t, (uv, pts) in frames:
         t_cam.append(t)
-        world_from_cam.append(_pnp(k, model, np.asarray(uv, float), np.asarray(pts, float)).inverse())
+        world_from_cam.append(pose_from_rays(rays(k, np.asarray(uv, float), model), pts).inverse())
     t_cam_a = np.array(t_cam)
     # 2.–3. the time offset and imu_from_cam's rotation: ω_imu(t + d) = R ω_cam(t)
     mid, w_cam = _angular_velocities(t_cam_a, world_from_cam)
@@ -288,13 +287,6 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
         o[ids["gyro_bias"]].vec, o[ids["accel_bias"]].vec,
         gravity_magnitude * np.asarray(o[ids["gravity"]].ambient), summary,
         {"time_offset": d0, "imu_from_cam": imu_from_cam0})
-
-
-def _pnp(k: np.ndarray, model: str, uv: np.ndarray, pts: np.ndarray) -> SE3:
-    """cam_from_target of a planar target (z = 0), by the homography of the corners'
-    normalised rays (Zhang eq. 12)."""
-    r = rays(k, uv, model)
-    return pose_from_homography(np.eye(3), homography(pts[:, :2], r[:, :2] / r[:, 2:3]))
 
 
 def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_rate: float = 20.0,

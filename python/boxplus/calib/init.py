@@ -40,7 +40,8 @@ from boxplus.manifolds import SE3, SO3
 __all__ = [
     "CAMERA_LABELS", "intrinsics_vector", "camera_matrix", "check_views", "check_solved_views",
     "init_camera",
-    "board_pose", "mean_pose", "relative_pose_init", "rotation_between", "hand_eye_park",
+    "board_pose", "pose_from_rays", "mean_pose", "relative_pose_init", "rotation_between",
+    "hand_eye_park",
     "robot_world_hand_eye", "triangulate", "marker_hand_eye",
 ]
 
@@ -120,8 +121,14 @@ def board_pose(K: np.ndarray, image_points: np.ndarray, object_points: np.ndarra
     """cam_from_board of a planar board (z = 0) seen by a calibrated camera (PnP by the
     homography of the viewing rays' normalised points, Zhang eq. 12). ``dist`` is
     in OpenCV's order for ``model`` (:data:`boxplus.calib.models.OPENCV_DISTORTION`)."""
+    return pose_from_rays(rays(intrinsics_vector(K, model, dist), np.asarray(image_points, float), model),
+                          object_points)
+
+
+def pose_from_rays(r: np.ndarray, object_points: np.ndarray) -> SE3:
+    """cam_from_board of a planar board (z = 0) from its corners' viewing rays (N, 3) in
+    the camera frame, any lens model (the homography of the normalised rays)."""
     obj = np.asarray(object_points, float)
-    r = rays(intrinsics_vector(K, model, dist), np.asarray(image_points, float), model)
     if np.any(r[:, 2] <= 1e-6):
         raise ValueError("board_pose: a corner's ray is 90° or more off the optical axis; the "
                          "homography needs points in front of the camera")
