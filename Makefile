@@ -13,7 +13,7 @@ export CCACHE_BASEDIR ?= $(CURDIR)
 PREFIX    := build/prefix
 
 .PHONY: format demo test deps venv venv-dev install cpp cpp-test consumer-test py-test lint stubs bench fuzz clean sanitize
-.PHONY: docs wheel sanitize-ci
+.PHONY: docs docs-shots wheel sanitize-ci
 
 demo: install
 	$(VPY) examples/demo.py
@@ -77,6 +77,10 @@ lint: venv-dev
 # builds it too, after py-test has installed the package.
 docs: install venv-dev
 	$(VPY) -m sphinx -E -W --keep-going -q -b html docs build/docs
+
+# Every page of the site in a real headless browser, as PNGs to look at (needs chromium).
+docs-shots: docs
+	bash scripts/docs_screenshots.sh
 
 # A self-contained wheel in build/wheelhouse (scripts/build_wheel.sh: repaired
 # by auditwheel, one BLAS), then its test in a fresh venv (tests/python/test_wheel.py).

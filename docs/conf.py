@@ -32,6 +32,9 @@ source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 # are not pages of the site; those links work where the pages are read on GitHub.
 suppress_warnings = ["myst.xref_missing"]
 html_theme = "alabaster"
+# Alabaster's 940 px page cut the examples' code lines (seen in a headless browser);
+# a wider page and a smaller code font show 100-column lines whole.
+html_theme_options = {"page_width": "1320px", "sidebar_width": "240px", "code_font_size": "0.8em"}
 html_static_path: list = []
 html_title = f"boxplus {release}"
 

@@ -273,7 +273,7 @@ def _zero(c) -> bool:
 
 
 def undistort(xd: np.ndarray, dist: Sequence[float] | np.ndarray, iters: int = 20) -> np.ndarray:
-    """Normalised coordinates x (N, 2) with distort(x, *dist) ≈ xd (N, 2).
+    """Normalised coordinates x (N, 2) with ``distort(x, *dist)`` ≈ xd (N, 2).
 
     Fixed-point iteration x ← (x_d − tangential(x)) / ρ(x) from x = x_d
     (OpenCV's ``undistortPoints``); converges for the moderate distortion of

@@ -289,6 +289,7 @@ class RayExecutor(concurrent.futures.Executor):
         self._remote: Any = None
 
     def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> concurrent.futures.Future:
+        """``fn(*args, **kwargs)`` as one Ray task; its result or exception in a Future."""
         if self._remote is None:
             self._remote = self._ray.remote(_call).options(**self._options)
         return self._remote.remote(fn, args, kwargs).future()

@@ -51,3 +51,18 @@ def test_bad_recordings_are_refused_with_the_reason():
     late = CameraImuData(data.frame_times, data.corners, data.imu_times + 0.5, data.gyro, data.accel)
     with pytest.raises(ValueError, match="did not reach a plausible answer.*timestamps"):
         calibrate_camera_imu(late, K, pixel_sigma=0.3)
+
+
+def test_angular_velocity_is_what_the_gyroscope_term_predicts():
+    rng = np.random.default_rng(4)
+    data, truth, K = simulate_camera_imu(rng, duration=4.0)
+    cal = calibrate_camera_imu(data, K, pixel_sigma=0.3)
+    # the gyroscope term's error is ω_imu(t) + b_g − z, one row per sample the spline covers
+    e = cal.problem.errors()["gyroscope"]
+    covered = [i for i, t in enumerate(data.imu_times)
+               if cal.t0 <= t < cal.t0 + (cal._n_knots() - 3) * cal.knot_spacing]
+    assert len(covered) == len(e)
+    predicted = np.array([cal.angular_velocity(data.imu_times[i]) for i in covered]) + cal.gyro_bias
+    np.testing.assert_allclose(predicted - data.gyro[covered], e, atol=1e-9)
+    # and near the truth's body rate (the noise is 0.005 rad/s per sample)
+    assert np.sqrt(np.mean((predicted - data.gyro[covered]) ** 2)) < 0.007

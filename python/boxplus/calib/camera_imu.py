@@ -94,6 +94,13 @@ class CameraImuCalibration:
         p, q, *_ = _core.spline_evaluate(k, u, self.knot_spacing)
         return SE3(SO3(q), p)
 
+    def angular_velocity(self, t: float) -> np.ndarray:
+        """ω_imu at IMU time t (rad/s, IMU frame): what an unbiased, noise-free gyroscope
+        would read (the gyroscope term's prediction before its bias)."""
+        i, u = _segment(t, self.t0, self.knot_spacing, self._n_knots())
+        k = np.array([self.problem[self.ids[f"knot{i + j}"]].ambient for j in range(4)])
+        return np.asarray(_core.spline_evaluate(k, u, self.knot_spacing)[4]).ravel()
+
     def _n_knots(self) -> int:
         return sum(1 for n in self.ids if n.startswith("knot"))
 

@@ -53,7 +53,7 @@ def observe(k: np.ndarray, world_from_cam: SE3, p_in_world: np.ndarray, sigma: f
 
 
 def errors_in_sigma(o, rep, ids, truth) -> dict:
-    """{name: |estimate − truth| / σ per tangent direction} for the variables
+    """{name: abs(estimate ⊟ truth) / σ per tangent direction} for the variables
     ``ids`` {name: variable id} of a solved problem, ``truth`` {name: value}, σ
     from the report ``rep``; a pose's error is [p − p_true, Log(R_trueᵀ R)], the
     tangent order of SE3."""
@@ -73,7 +73,7 @@ def numeric_jacobian(o, mids, h: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
     variables (``o.jacobian()``'s columns), for the residuals of the measurements
     ``mids`` (their rows must be all of the problem's). Each direction j of a
     variable x is stepped through ⊞: (r(x ⊞ hⱼeⱼ) − r(x ⊞ −hⱼeⱼ)) / 2hⱼ, with
-    hⱼ = h · max(1, |xⱼ|) for Rⁿ variables (intrinsics in pixels) and h otherwise."""
+    hⱼ = h · max(1, abs(xⱼ)) for Rⁿ variables (intrinsics in pixels) and h otherwise."""
     def residuals():
         return np.concatenate([o.residual(m) for m in mids])
 

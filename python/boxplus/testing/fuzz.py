@@ -8,19 +8,27 @@ gimbal-lock Euler angles, huge angles, truncation, CRLF, binary junk, empty or
 comment-only files — and loads it in-process through
 ``boxplus.slam.load_g2o`` with random options. The outcome is classified:
 
-``ok``            accepted, solved a few iterations, chi2 finite and equal to
-                  the independent numpy evaluation (``boxplus.testing.
-                  g2o_reference``) where its tags allow, save-and-reload equal;
-``parse_error``   ``boxplus.ParseError`` naming ``file:line``;
-``named_error``   an error naming the file where no line exists (an empty
-                  file, a graph without poses);
-``crash``         the worker process died (signal or abort);
-``hang``          a case took longer than the time limit;
-``unnamed_error`` any other exception, or an error that does not name the file;
-``wrong_load``    accepted but the loaded graph breaks an invariant (a
-                  non-unit quaternion, an angle outside [−π, π), chi2 or poses
-                  that differ from the oracle or after save-and-reload);
-``non_finite``    accepted, but chi2 or the estimate is not finite.
+``ok``
+    accepted, solved a few iterations, chi2 finite and equal to the independent
+    numpy evaluation (``boxplus.testing.g2o_reference``) where its tags allow,
+    save-and-reload equal;
+``parse_error``
+    ``boxplus.ParseError`` naming ``file:line``;
+``named_error``
+    an error naming the file where no line exists (an empty file, a graph
+    without poses);
+``crash``
+    the worker process died (signal or abort);
+``hang``
+    a case took longer than the time limit;
+``unnamed_error``
+    any other exception, or an error that does not name the file;
+``wrong_load``
+    accepted but the loaded graph breaks an invariant (a non-unit quaternion,
+    an angle outside [−π, π), chi2 or poses that differ from the oracle or
+    after save-and-reload);
+``non_finite``
+    accepted, but chi2 or the estimate is not finite.
 
 The first four of the last five are failures: the input is written to
 ``tests/data/fuzz_regressions/`` (replayed by tests/python/test_slam_fuzz.py).
