@@ -26,4 +26,13 @@ void RegisterPoseFactors(pybind11::module_& m);
 void RegisterSlam(pybind11::module_& m);
 void RegisterCertify(pybind11::module_& m);  // after RegisterSlam (adds to PoseGraph)
 
+// todict() of a read-only result class: its public properties as plain Python values
+// (boxplus/_plain.py), so that a result nested in another converts the same way
+// whether it is bound here or a Python dataclass.
+inline constexpr const char* kToDictDoc =
+    "The properties as a dict of plain Python values (json.dumps takes it).";
+inline pybind11::object PropertiesToDict(const pybind11::object& self) {
+  return pybind11::module_::import("boxplus._plain").attr("properties_todict")(self);
+}
+
 }  // namespace boxplus::python

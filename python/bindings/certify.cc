@@ -42,6 +42,7 @@ dimension when none was needed); times in seconds.
       .def_readonly("verify_time_s", &CertifyResult::verify_time_s)
       .def_readonly("solve_time_s", &CertifyResult::solve_time_s)
       .def_readonly("message", &CertifyResult::message)
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const CertifyResult& r) {
         char buf[200];
         std::snprintf(buf, sizeof buf,

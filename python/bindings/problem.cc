@@ -88,6 +88,7 @@ void RegisterProblem(py::module_& m) {
                     "Orthonormal columns in the variable's tangent coordinates.")
       .def_readonly("moves_with", &UndeterminedVariable::moves_with,
                     "The variables these directions are tied to (a shared null vector).")
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const UndeterminedVariable& u) {
         return "<UndeterminedVariable " + std::to_string(u.variable) + ": " +
                std::to_string(u.directions.cols()) + " free direction(s)>";
@@ -110,6 +111,7 @@ its singular value is below ``tolerance`` times the largest; see
       .def_readonly("undetermined", &Determinedness::undetermined)
       .def_property_readonly("determined", &Determinedness::determined)
       .def_property_readonly("nullity", &Determinedness::nullity)
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const Determinedness& d) {
         return "<Determinedness rank " + std::to_string(d.rank) + " of " +
                std::to_string(d.num_columns) + ">";

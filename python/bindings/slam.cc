@@ -98,6 +98,7 @@ void RegisterSlam(py::module_& m) {
       .def_readonly("unknown_tags", &io::ReadReport::unknown_tags,
                     "Skipped tag → count (bytes outside ASCII escaped as \\xNN).")
       .def_readonly("repaired_information", &io::ReadReport::repaired_information)
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def_readonly("repaired_lines", &io::ReadReport::repaired_lines);
 
   py::class_<slam::LoadReport>(m, "LoadReport", R"doc(
@@ -123,6 +124,7 @@ What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
       .def_readonly("read_s", &slam::LoadReport::read_s)
       .def_readonly("init_s", &slam::LoadReport::init_s)
       .def_readonly("build_s", &slam::LoadReport::build_s)
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const slam::LoadReport& r) {
         return "LoadReport(lines=" + std::to_string(r.read.lines) +
                ", unknown_skipped=" + std::to_string(r.read.unknown_skipped) +
@@ -139,6 +141,7 @@ What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
       .def_readonly("to_id", &slam::EdgeVerdict::to)
       .def_readonly("weight", &slam::EdgeVerdict::weight, "GNC's last weight (0).")
       .def_readonly("chi2", &slam::EdgeVerdict::chi2, "eᵀΩe at the returned estimate.")
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const slam::EdgeVerdict& v) {
         return "EdgeVerdict(line=" + std::to_string(v.line) +
                ", from_id=" + std::to_string(v.from) + ", to_id=" + std::to_string(v.to) +
@@ -157,6 +160,7 @@ closures judged), ``rounds``, ``outliers`` (EdgeVerdict list, file order).
       .def_readonly("candidates", &slam::OutlierReport::candidates)
       .def_readonly("rounds", &slam::OutlierReport::rounds)
       .def_readonly("outliers", &slam::OutlierReport::outliers)
+      .def("todict", &PropertiesToDict, kToDictDoc)
       .def("__repr__", [](const slam::OutlierReport& r) {
         return "OutlierReport(ran=" + std::string(r.ran ? "True" : "False") + ", method='" +
                r.method + "', outliers=" + std::to_string(r.outliers.size()) +

@@ -1062,6 +1062,10 @@ class UndeterminedVariable:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def directions(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:
         """
@@ -1085,6 +1089,10 @@ class Determinedness:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def column_norms(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, 1]"]:
         ...
@@ -1269,6 +1277,10 @@ class ReadReport:
     """
     What the g2o reader counted.
     """
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def lines(self) -> int:
         ...
@@ -1297,6 +1309,10 @@ class LoadReport:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def build_s(self) -> float:
         ...
@@ -1336,6 +1352,10 @@ class EdgeVerdict:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def chi2(self) -> float:
         """
@@ -1372,6 +1392,10 @@ class OutlierReport:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def candidates(self) -> int:
         ...
@@ -1546,6 +1570,10 @@ class CertifyResult:
     """
     def __repr__(self) -> str:
         ...
+    def todict(self) -> typing.Any:
+        """
+        The properties as a dict of plain Python values (json.dumps takes it).
+        """
     @property
     def certified(self) -> bool:
         ...

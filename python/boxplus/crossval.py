@@ -16,6 +16,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from boxplus._plain import fields_todict
+
 __all__ = ["CrossValidation", "cross_validate", "kfold"]
 
 Split = dict[str, np.ndarray]
@@ -52,6 +54,12 @@ class CrossValidation:
     # per method and fold, every metric (when ``validate`` returns rows of several
     # metrics, an (N, m) array; fold_errors then holds the first)
     fold_metrics: dict[str, list[np.ndarray]] = field(default_factory=dict)
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them): the fields, and the mean and
+        standard deviation over the folds per method."""
+        summary = {m: {"mean": self.mean(m), "std": self.std(m)} for m in self.fold_errors}
+        return {**fields_todict(self), "summary": summary}
 
     def mean(self, method: str) -> float:
         return float(np.mean(self.fold_errors[method]))

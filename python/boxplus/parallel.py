@@ -37,6 +37,7 @@ from typing import Any, Callable
 import numpy as np
 
 from boxplus import blas_threads, solver
+from boxplus._plain import fields_todict, plain
 
 __all__ = ["RayExecutor", "TaskResult", "map_tasks", "solve_many"]
 
@@ -75,6 +76,16 @@ class TaskResult:
     def ok(self) -> bool:
         """Whether the task ran to the end without an error."""
         return self.error is None
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them). ``value`` is converted when it
+        is plain data or a result (an OptimizationProblem becomes None: it is not data)."""
+        out = fields_todict(self, skip=("value",))
+        try:
+            out["value"] = plain(self.value)
+        except TypeError:
+            out["value"] = None
+        return out
 
 
 def _run(fn: Callable, index: int, args: tuple) -> TaskResult:

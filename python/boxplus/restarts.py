@@ -19,6 +19,7 @@ from typing import Any, Callable
 import numpy as np
 
 from boxplus._core import SolveSummary
+from boxplus._plain import fields_todict
 from boxplus.manifolds import S2, SE3, SO3, Rn, _CompoundBase
 from boxplus.problem import EvaluationError, OptimizationProblem
 
@@ -60,6 +61,10 @@ class RestartResult:
     best: SolveSummary
     best_cost: float
     costs: list[float] = field(default_factory=list)
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them): the fields and ``improvements``."""
+        return {**fields_todict(self), "improvements": self.improvements}
 
     @property
     def single_solve_cost(self) -> float:

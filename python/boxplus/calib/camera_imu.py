@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from boxplus import _core
+from boxplus._plain import fields_todict
 from boxplus.calib.init import pose_from_rays, rotation_between
 from boxplus.calib.models import model_labels, project, rays
 from boxplus.manifolds import S2, SE3, SO3, Rn
@@ -86,6 +87,15 @@ class CameraImuCalibration:
 
     def std(self, name: str) -> np.ndarray:
         return self.problem.std(self.ids[name])
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them): the estimates (imu_from_cam as
+        [p, q], q = [x, y, z, w]), their σ in tangent order, the spline's knot grid and
+        the solve summary."""
+        names = ("imu_from_cam", "time_offset", "gyro_bias", "accel_bias", "gravity")
+        return {**fields_todict(self, skip=("problem", "ids")),
+                "std": {n: self.std(n).tolist() for n in names},
+                "knots": self._n_knots()}
 
     def pose(self, t: float) -> SE3:
         """world_from_imu at IMU time t."""

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._plain import fields_todict
 from boxplus.calib.models import project, rays
 from boxplus.manifolds import SE3, SO3
 
@@ -55,6 +56,10 @@ class ViewSuggestion:
     footprint_px: np.ndarray    # the board's outer corners in the image (4, 2)
     score_before: float         # the score (px) before this view...
     score_after: float          # ...and after it (and the better-ranked ones)
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them; the pose as [p, q])."""
+        return fields_todict(self)
 
     def __str__(self) -> str:
         return (f"{self.rank}. {self.camera}: board centre at ({self.center_px[0]:.0f}, "

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from boxplus._plain import fields_todict
 from boxplus.calib.models import project, rays
 
 __all__ = ["ProjectionUncertainty", "coverage", "projection_sigma", "projection_uncertainty"]
@@ -42,6 +43,10 @@ class ProjectionUncertainty:
     sigma: np.ndarray
     poses: bool
     rescaled: bool
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them; NaN outside the valid field)."""
+        return fields_todict(self)
 
     def at_center(self) -> float:
         j, i = len(self.v) // 2, len(self.u) // 2

@@ -52,6 +52,7 @@ import numpy as np
 
 from boxplus import _core
 from boxplus._journal import journalled
+from boxplus._plain import fields_todict
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
 from boxplus.joint.geometry import dh_pose, plane_in, sheet_points, triangulate
 from boxplus.losses import LossSpec
@@ -239,6 +240,10 @@ class RigResult:
     termination: str
     rms: dict[str, float]
     restarts: RestartResult = field(repr=False)
+
+    def todict(self) -> dict[str, Any]:
+        """Plain Python values (``json.dumps`` takes them)."""
+        return fields_todict(self)
 
 
 # ---- the calibration -------------------------------------------------------------------
