@@ -18,9 +18,12 @@ DOCS = ROOT / "docs"
     ("calibration.py", ["calibration_errors.png", "calibration_views.png"]),
     ("robust_pose_graph.py", ["robust_pose_graph.png"]),
     ("camera_imu.py", ["camera_imu.png"]),
+    ("stereo.py", ["stereo_rectified.png"]),
 ])
 def test_tutorial_scripts_make_their_pictures(tmp_path, script, pictures):
     pytest.importorskip("matplotlib")
+    if script == "stereo.py":
+        pytest.importorskip("cv2")
     r = subprocess.run([sys.executable, str(DOCS / "tutorials" / script), "--out", str(tmp_path)],
                        capture_output=True, text=True, timeout=300, cwd=tmp_path,
                        env={**os.environ, "MPLBACKEND": "Agg", "OPENBLAS_NUM_THREADS": "1"})
@@ -41,6 +44,11 @@ def test_tutorial_scripts_make_their_pictures(tmp_path, script, pictures):
         ate = [float(x) for x in re.findall(r"ATE ([0-9.]+) m", r.stdout)]
         assert ate == pytest.approx([13.590, 0.087], abs=2e-3)
         assert "138 wrong;" in r.stdout and "precision 1.000, recall 1.000" in r.stdout
+    elif script == "stereo.py":
+        assert "ROS reads: f' = 516.75 px, baseline -Tx/f' = 3.3269 squares" in r.stdout
+        rows = float(re.search(r"row difference .* RMS ([0-9.]+) px", r.stdout).group(1))
+        assert rows < 0.25  # the page says 0.15 px
+        assert (tmp_path / "stereo_calibration" / "left_camera_info.yaml").is_file()
     else:
         d, sigma = re.search(r"time offset d: ([0-9.]+) ms .*σ ([0-9.]+);", r.stdout).groups()
         assert float(d) == pytest.approx(7.007, abs=2e-3)
