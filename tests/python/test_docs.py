@@ -19,6 +19,7 @@ DOCS = ROOT / "docs"
     ("robust_pose_graph.py", ["robust_pose_graph.png"]),
     ("camera_imu.py", ["camera_imu.png"]),
     ("stereo.py", ["stereo_rectified.png"]),
+    ("joint_rig.py", ["joint_rig.png"]),
 ])
 def test_tutorial_scripts_make_their_pictures(tmp_path, script, pictures):
     pytest.importorskip("matplotlib")
@@ -49,6 +50,10 @@ def test_tutorial_scripts_make_their_pictures(tmp_path, script, pictures):
         rows = float(re.search(r"row difference .* RMS ([0-9.]+) px", r.stdout).group(1))
         assert rows < 0.25  # the page says 0.15 px
         assert (tmp_path / "stereo_calibration" / "left_camera_info.yaml").is_file()
+    elif script == "joint_rig.py":
+        rms = float(re.search(r"reprojection RMS ([0-9.]+) px", r.stdout).group(1))
+        assert rms == pytest.approx(0.415, abs=2e-3)
+        assert "(σ > 0.8 × the prior's): theta1, d1, d2, d3, d4" in r.stdout
     else:
         d, sigma = re.search(r"time offset d: ([0-9.]+) ms .*σ ([0-9.]+);", r.stdout).groups()
         assert float(d) == pytest.approx(7.007, abs=2e-3)
