@@ -16,7 +16,17 @@ file's estimate (the odometry), one thread:
   linear μ schedule (GTSAM's default);
 * ``g2o cauchy`` / ``g2o dcs``: g2o's Levenberg–Marquardt, 100 iterations,
   with the Cauchy kernel (width 1) or dynamic covariance scaling (Φ = 1) on
-  the loop closures.
+  the loop closures;
+* ``boxplus KERNEL`` (``--kernels dcs cauchy geman_mcclure``): ``boxplus-g2o FILE
+  -r KERNEL``, boxplus' own kernels on every edge from its default start, for
+  comparison with the default's judging (a kernel makes no decisions).
+
+``--set shared``: the standard files of the SLAM literature (``../shared/data/slam``,
+or ``--shared DIR``) with wrong loop closures added (5, 20 and 50 % random, 20 %
+clustered; measurements drawn as the generator draws them, about the reference
+optimum; information copied from one of the file's own closures). Their truth is
+unknown, so the reference is the file's own optimum (``boxplus-g2o`` on the
+clean file) and the ATE column is the distance to it (m, after alignment).
 
 Columns: ATE (m, RMS position error after alignment to the truth), ATE over
 the inlier-only ATE, precision and recall of the edges judged wrong (boxplus:
@@ -26,8 +36,9 @@ building of the problem), and boxplus' time over GTSAM GNC-TLS's. A peer's
 run stops at a cap (``--cap`` s, default 300) and is then a miss. Rows go to a
 JSON as they come; ``--summarise JSON`` prints an earlier run's table.
 
-usage: python bench/bench_outliers.py [--set quick|full] [--only SUBSTR ...]
-        [--max-poses N] [--cap S] [--no-peers] [--json PATH] [--summarise JSON]
+usage: python bench/bench_outliers.py [--set quick|full|shared] [--only SUBSTR ...]
+        [--max-poses N] [--cap S] [--no-peers] [--kernels K ...] [--json PATH]
+        [--summarise JSON]
 """
 
 from __future__ import annotations
@@ -76,7 +87,19 @@ def graph_set(name: str) -> list[dict]:
     return rows
 
 
+SHARED_FILES = ("intel", "MIT", "CSAIL", "manhattan", "parking-garage", "sphere2500",
+                "smallGrid3D", "torus3D")
+SHARED_VARIANTS = ((0.05, "random"), (0.2, "random"), (0.5, "random"), (0.2, "clustered"))
+
+
+def shared_set() -> list[dict]:
+    return [dict(file=f, outlier_fraction=fr, outlier_model=m, seed=1)
+            for f in SHARED_FILES for fr, m in SHARED_VARIANTS]
+
+
 def label(spec: dict) -> str:
+    if "file" in spec:
+        return f"{spec['file']}-{round(100 * spec['outlier_fraction'])}%-{spec['outlier_model']}"
     return (f"{spec['family']}-{spec['dimension']}d-{spec['num_poses']}-"
             f"{round(100 * spec['outlier_fraction'])}%-{spec['outlier_model']}")
 
@@ -196,6 +219,22 @@ def run_peer(name: str, path: Path, dim: int, cap: float) -> dict:
 
 
 # -- one graph ------------------------------------------------------------------
+def judged_edges(pairs, edges) -> np.ndarray | None:
+    """One boolean per edge (file order): listed by boxplus' --outliers (by vertex pair,
+    each listing taking the first not yet taken edge of that pair)."""
+    if pairs is None:
+        return None
+    listed: dict[tuple[int, int], int] = {}
+    for pair in pairs:
+        listed[pair] = listed.get(pair, 0) + 1
+    judged = np.zeros(len(edges), bool)
+    for k, (a, b) in enumerate(edges):
+        if listed.get((int(a), int(b)), 0) > 0:
+            listed[(int(a), int(b))] -= 1
+            judged[k] = True
+    return judged
+
+
 def bench_graph(spec: dict, work: Path, args) -> dict:
     g = gen.generate(**spec)
     path = work / (label(spec) + ".g2o")
@@ -221,20 +260,110 @@ def bench_graph(spec: dict, work: Path, args) -> dict:
         return entry
 
     bp = run_boxplus(path, g.dimension)
-    judged = None
-    if "judged_pairs" in bp:
-        listed = {}
-        for pair in bp["judged_pairs"]:
-            listed[pair] = listed.get(pair, 0) + 1
-        judged = np.zeros(len(wrong), bool)
-        for k, (a, b) in enumerate(g.edges):  # the file writes edges in this order
-            if listed.get((int(a), int(b)), 0) > 0:
-                listed[(int(a), int(b))] -= 1
-                judged[k] = True
+    judged = judged_edges(bp.get("judged_pairs"), [tuple(e) for e in g.edges.tolist()])
     row["boxplus default"] = score(bp, judged)
+    for kernel in args.kernels:  # boxplus' own kernels, for comparison (no decisions)
+        row[f"boxplus {kernel}"] = score(run_boxplus(path, g.dimension, ["-r", kernel]))
     if not args.no_peers:
         for name in PEERS:
             r = run_peer(name, path, g.dimension, args.cap)
+            w = r.get("weights")
+            row[name] = score(r, None if w is None or len(w) == 0 else w < 0.5)
+    return row
+
+
+def contaminate(lines: list[str], dim: int, optimum: np.ndarray, ids: list[int], fraction: float,
+                model: str, rng: np.random.Generator) -> tuple[list[str], list[tuple[int, int]]]:
+    """Wrong loop closures for a file: ``fraction`` of its closures afterwards are wrong.
+
+    'random': independent closures between random poses ≥ 2 apart, measurements
+    random poses within 5 odometry steps (boxplus.slam.generate's model);
+    'clustered': groups of ten consecutive pairs that agree with one wrong map
+    (perceptual aliasing). Each takes the information of a random closure of the file."""
+    tag = "EDGE_SE2" if dim == 2 else "EDGE_SE3:QUAT"
+    edges = [ln.split() for ln in lines if ln.startswith(tag)]
+    closures = [e for e in edges if abs(int(e[1]) - int(e[2])) != 1] or edges
+    num_out = int(round(fraction * len(closures) / (1.0 - fraction)))
+    index = {v: k for k, v in enumerate(ids)}
+    steps = [np.linalg.norm(gen.se.between(optimum[index[int(e[1])]][None], optimum[index[int(e[2])]][None],
+                                           dim)[0, :dim])
+             for e in edges if abs(int(e[1]) - int(e[2])) == 1 and int(e[1]) in index]
+    reach = 5.0 * float(np.median(steps))
+    n = len(ids)
+    pairs, z = [], []
+    while len(pairs) < num_out:
+        if model == "random":
+            i, j = np.sort(rng.integers(0, n, 2))
+            if j - i < 2:
+                continue
+            pairs.append((i, j))
+            z.append(gen._random_poses(rng, 1, dim, reach)[0])
+        else:
+            i, j = np.sort(rng.integers(0, n - 10, 2))
+            if j - i < 12:
+                continue
+            wrong_map = gen.se.compose(gen.se.compose(optimum[i][None], gen._random_poses(rng, 1, dim, reach),
+                                                      dim), gen.se.inverse(optimum[j][None], dim), dim)
+            for s in range(min(10, num_out - len(pairs))):
+                aliased = gen.se.compose(wrong_map, optimum[j + s][None], dim)
+                pairs.append((i + s, j + s))
+                z.append(gen.se.between(optimum[i + s][None], aliased, dim)[0])
+    out = []
+    for (i, j), m in zip(pairs, gen._canonical(np.array(z), dim)):
+        info = closures[rng.integers(len(closures))][3 + len(m):]  # tag, i, j, z, info
+        out.append(" ".join([tag, str(ids[i]), str(ids[j]), *(f"{v:.9g}" for v in m), *info]))
+    return out, [(ids[i], ids[j]) for i, j in pairs]
+
+
+def bench_shared(spec: dict, work: Path, args) -> dict:
+    source = args.shared / f"{spec['file']}.g2o"
+    lines = source.read_text().splitlines()
+    dim = 3 if any(ln.startswith(("VERTEX_SE3", "EDGE_SE3")) for ln in lines[:50]) else 2
+    tag = "VERTEX_SE2" if dim == 2 else "VERTEX_SE3:QUAT"
+    ids = sorted(int(ln.split()[1]) for ln in lines if ln.startswith(tag))
+    if not ids:
+        # A file of edges only (CSAIL, manhattan): the odometry composed, as a front end
+        # would write it, so that every system starts from the same estimate.
+        from boxplus.slam import load_g2o
+
+        start = load_g2o(source, init="file")
+        ids = sorted(start.vertex_ids)
+        poses = start.poses()
+        order = np.argsort(start.vertex_ids)
+        lines = [" ".join([tag, str(ids[k]), *(f"{v:.9g}" for v in poses[order[k]])])
+                 for k in range(len(ids))] + lines
+    ref = run_boxplus(source, dim, ["--outlier-mode", "off"])
+    optimum = ref["poses"]
+    rng = np.random.default_rng(spec["seed"])
+    extra, wrong_pairs = contaminate(lines, dim, optimum, ids, spec["outlier_fraction"],
+                                     spec["outlier_model"], rng)
+    path = work / (label(spec) + ".g2o")
+    path.write_text("\n".join(lines + extra) + "\n")
+    edge_tag = "EDGE_SE2" if dim == 2 else "EDGE_SE3:QUAT"
+    all_edges = [tuple(int(v) for v in ln.split()[1:3]) for ln in lines + extra
+                 if ln.startswith(edge_tag)]
+    wrong = np.zeros(len(all_edges), bool)
+    wrong[len(all_edges) - len(extra):] = True
+    row = {"graph": label(spec), **spec, "dimension": dim, "outliers": len(extra),
+           "closures": int(sum(abs(a - b) != 1 for a, b in all_edges)) - len(extra)}
+    row["inliers only"] = {"ate": 0.0, "time_s": ref["time_s"]}
+
+    def score(result, judged=None):
+        if "poses" not in result:
+            return {k: v for k, v in result.items() if k != "poses"}
+        entry = {"ate": ate(result["poses"], optimum), "time_s": result["time_s"]}
+        if judged is not None:
+            entry["precision"], entry["recall"] = outlier_scores(judged, wrong)
+        return entry
+
+    bp = run_boxplus(path, dim)
+    judged = judged_edges(bp.get("judged_pairs"), all_edges)
+    row["boxplus default"] = score(bp, judged)
+    for kernel in args.kernels:  # boxplus' own kernels, for comparison (no decisions)
+        row[f"boxplus {kernel}"] = score(run_boxplus(path, dim, ["-r", kernel]))
+    if not args.no_peers:
+        for name in PEERS:
+            r = run_peer(name, path, dim, args.cap)
             w = r.get("weights")
             row[name] = score(r, None if w is None or len(w) == 0 else w < 0.5)
     return row
@@ -253,7 +382,8 @@ def fmt(entry: dict | None, key: str, spec: str) -> str:
 
 
 def summarise(rows: list[dict]) -> None:
-    systems = ["boxplus default"] + [p for p in PEERS if any(p in r for r in rows)]
+    kernels = sorted({k for r in rows for k in r if k.startswith("boxplus ") and k != "boxplus default"})
+    systems = ["boxplus default"] + kernels + [p for p in PEERS if any(p in r for r in rows)]
     print(f"{'graph':34s} {'wrong':>6s} {'inl. ATE':>8s} | " + " | ".join(
         f"{s:>30s}" for s in systems) + " | bp/gnc-tls time")
     print(f"{'':34s} {'':6s} {'':8s} | " + " | ".join(
@@ -261,9 +391,12 @@ def summarise(rows: list[dict]) -> None:
     ratios = []
     for r in rows:
         cells = []
+        # generated graphs: ATE over the inliers-only ATE; shared files: ATE to the
+        # file's own optimum, in metres
+        key = "ate" if "file" in r else "ate_ratio"
         for s in systems:
             e = r.get(s)
-            cells.append(f"{fmt(e, 'ate_ratio', '6.3f'):>7s} {fmt(e, 'precision', '.3f'):>5s} "
+            cells.append(f"{fmt(e, key, '6.3f'):>7s} {fmt(e, 'precision', '.3f'):>5s} "
                          f"{fmt(e, 'recall', '.3f'):>5s} {fmt(e, 'time_s', '8.2f'):>8s}".rjust(30))
         t = r.get("boxplus default", {}).get("time_s")
         p = r.get("gtsam gnc-tls", {})
@@ -272,6 +405,9 @@ def summarise(rows: list[dict]) -> None:
             ratios.append(ratio)
         print(f"{r['graph']:34s} {r['outliers']:6d} {r['inliers only']['ate']:8.4f} | "
               + " | ".join(cells) + f" | {'-' if ratio is None else format(ratio, '.2f')}")
+    if any("file" in r for r in rows):
+        print("\nshared files: 'ATE×' is the ATE to the clean file's optimum (m); 'inl. ATE' 0 "
+              "by definition")
     if ratios:
         print(f"\nboxplus time / GTSAM GNC-TLS time: median {statistics.median(ratios):.2f}, "
               f"worst {max(ratios):.2f} over {len(ratios)} graphs")
@@ -282,26 +418,30 @@ def main(argv=None) -> int:
         _peer_main(sys.argv[2], sys.argv[3], int(sys.argv[4]), sys.argv[5])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--set", choices=("quick", "full"), default="full")
+    ap.add_argument("--set", choices=("quick", "full", "shared"), default="full")
+    ap.add_argument("--shared", type=Path, default=HERE.parents[1] / "shared" / "data" / "slam")
     ap.add_argument("--only", nargs="*", default=[])
     ap.add_argument("--max-poses", type=int, default=None)
     ap.add_argument("--cap", type=float, default=300.0)
     ap.add_argument("--no-peers", action="store_true")
+    ap.add_argument("--kernels", nargs="*", default=[],
+                    help="also run boxplus-g2o -r KERNEL (e.g. dcs cauchy geman_mcclure)")
     ap.add_argument("--json", type=Path, default=Path("bench_outliers.json"))
     ap.add_argument("--summarise", type=Path)
     args = ap.parse_args(argv)
     if args.summarise:
         summarise(json.loads(args.summarise.read_text()))
         return 0
-    specs = [s for s in graph_set(args.set)
+    specs = [s for s in (shared_set() if args.set == "shared" else graph_set(args.set))
              if (not args.only or any(o in label(s) for o in args.only))
-             and (args.max_poses is None or s["num_poses"] <= args.max_poses)]
+             and (args.max_poses is None or s.get("num_poses", 0) <= args.max_poses)]
     rows = []
     with tempfile.TemporaryDirectory() as d:
         try:
             for k, spec in enumerate(specs):
                 t = time.perf_counter()
-                rows.append(bench_graph(spec, Path(d), args))
+                run = bench_shared if "file" in spec else bench_graph
+                rows.append(run(spec, Path(d), args))
                 print(f"[{k + 1}/{len(specs)}] {label(spec)} in {time.perf_counter() - t:.1f} s",
                       file=sys.stderr, flush=True)
                 args.json.write_text(json.dumps(rows, indent=1))

@@ -64,7 +64,8 @@ options:
                          (Gauss-Newton with a backtracking line search),
                          dogleg
   -r, --robust NAME      robust kernel: none (default), huber, cauchy, tukey,
-                         arctan, softl1
+                         arctan, softl1, dcs (dynamic covariance scaling),
+                         geman_mcclure
   -w, --robust-width W   kernel width on sqrt(e'Ωe) (default 1)
       --outlier-mode NAME
                          wrong loop closures: auto (default: when the

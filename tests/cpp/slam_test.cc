@@ -451,8 +451,52 @@ TEST(PoseGraph, ImplausibleSolutionRestartsAndKeepsTheLowest) {
   EXPECT_THAT(plain.Solve(o).message, ::testing::Not(::testing::HasSubstr("kept the lowest")));
 }
 
+// Every loss: ρ(0) = 0, ρ'(0) = 1 (least squares near zero), ρ' and ρ'' the
+// derivatives of ρ (central differences), on both sides of the width.
+TEST(PoseGraph, RobustKernelDerivativesMatchFiniteDifferences) {
+  for (const std::string& name : LossNames()) {
+    if (name == "none") continue;
+    for (double width : {0.5, 1.0, 3.0}) {
+      const auto loss = MakeLoss(name, width);
+      double r0[3];
+      loss->Evaluate(0.0, r0);
+      EXPECT_NEAR(r0[0], 0.0, 1e-15) << name;
+      EXPECT_NEAR(r0[1], 1.0, 1e-12) << name;
+      for (double s : {0.01, 0.2, 0.9, 1.7, 4.0, 30.0, 400.0}) {
+        const double x = s * width * width, h = 1e-6 * std::max(1.0, x);
+        double lo[3], mid[3], hi[3];
+        loss->Evaluate(x - h, lo);
+        loss->Evaluate(x, mid);
+        loss->Evaluate(x + h, hi);
+        EXPECT_NEAR(mid[1], (hi[0] - lo[0]) / (2 * h), 1e-6 * std::max(1.0, mid[1]))
+            << name << " at s = " << x;
+        if (std::abs(x - width * width) > 2 * h) {  // ρ'' jumps at the width (huber, dcs)
+          EXPECT_NEAR(mid[2], (hi[1] - lo[1]) / (2 * h), 1e-5) << name << " at s = " << x;
+        }
+      }
+    }
+  }
+}
+
+// DCS is the M-estimator whose weight is the square of DCS' scale factor
+// min(1, 2Φ/(Φ + χ²)) (Agarwal et al. 2013), Φ = width²; bounded by 3Φ.
+TEST(PoseGraph, DcsWeightIsTheSquaredScaleFactor) {
+  const double phi = 2.25;
+  const auto dcs = MakeLoss("dcs", 1.5);
+  for (double chi2 : {0.5, 2.25, 5.0, 100.0, 1e6}) {
+    double rho[3];
+    dcs->Evaluate(chi2, rho);
+    const double scale = std::min(1.0, 2 * phi / (phi + chi2));
+    EXPECT_NEAR(rho[1], scale * scale, 1e-15);
+    EXPECT_LE(rho[0], 3 * phi);
+  }
+  double far[3];
+  MakeLoss("geman_mcclure", 1.5)->Evaluate(1e12, far);
+  EXPECT_NEAR(far[0], phi, 1e-6);  // Geman-McClure is bounded by δ²
+}
+
 TEST(PoseGraph, RobustKernelsByName) {
-  for (const char* k : {"huber", "cauchy", "tukey", "arctan", "softl1"}) {
+  for (const char* k : {"huber", "cauchy", "tukey", "arctan", "softl1", "dcs", "gm"}) {
     EXPECT_NE(MakeLoss(k, 1.0), nullptr);
   }
   EXPECT_EQ(MakeLoss("none", 1.0), nullptr);

@@ -62,7 +62,8 @@ def test_g2o_spellings_give_the_same_run_as_boxplus_spellings(tmp_path):
 
 
 @pytest.mark.parametrize("kernel, loss", [("Cauchy", "cauchy"), ("Tukey", "tukey"),
-                                          ("PseudoHuber", "soft_l1")])
+                                          ("PseudoHuber", "soft_l1"), ("DCS", "dcs"),
+                                          ("GemanMcClure", "geman_mcclure")])
 def test_g2o_kernels_are_boxplus_losses(kernel, loss, tmp_path):
     ra = run("-i", "3", "-q", "-robustKernel", kernel, str(GRID))
     rb = run("-i", "3", "-q", "--robust", loss, str(GRID))
@@ -70,7 +71,21 @@ def test_g2o_kernels_are_boxplus_losses(kernel, loss, tmp_path):
     assert final_chi2(ra.stderr) == final_chi2(rb.stderr)
 
 
-@pytest.mark.parametrize("kernel", ["DCS", "Fair", "GemanMcClure", "Saturated", "Welsch"])
+@pytest.mark.parametrize("kernel", ["DCS", "GemanMcClure"])
+def test_g2o_kernel_widths_on_chi2_become_widths_on_its_root(kernel, tmp_path):
+    # g2o's DCS Φ and Geman-McClure width act on e'Ωe; boxplus' widths on √(e'Ωe)
+    a, b = tmp_path / "a.g2o", tmp_path / "b.g2o"
+    ra = run("-i", "3", "-q", "-robustKernel", kernel, "-robustKernelWidth", "4", "-o", str(a),
+             str(GRID))
+    loss = "dcs" if kernel == "DCS" else "geman_mcclure"
+    rb = run("-i", "3", "-q", "--robust", loss, "--robust-width", "2", "-o", str(b), str(GRID))
+    assert ra.returncode == 0 and rb.returncode == 0, ra.stderr + rb.stderr
+    assert a.read_text() == b.read_text()
+    r = run("-robustKernel", kernel, "-robustKernelWidth", "-3", str(GRID))
+    assert r.returncode == 2 and "must be positive" in r.stderr
+
+
+@pytest.mark.parametrize("kernel", ["Fair", "Saturated", "Welsch"])
 def test_g2o_kernels_boxplus_lacks_are_refused_by_name(kernel):
     r = run("-robustKernel", kernel, str(GRID))
     assert r.returncode == 2

@@ -10,9 +10,12 @@
 //                              the linear solver (cholmod, csparse, eigen, dense, pcg) do
 //                              not apply: boxplus always factorises J'J by sparse Cholesky
 //   -robustKernel NAME         --robust: Huber, Cauchy, Tukey, PseudoHuber (= soft_l1,
-//                              the same ρ); g2o's DCS, Fair, GemanMcClure, Saturated,
-//                              Welsch are refused (no boxplus kernel)
-//   -robustKernelWidth X       --robust-width X (g2o's −1 = the kernel's default 1)
+//                              the same ρ), DCS (dcs), GemanMcClure (geman_mcclure);
+//                              g2o's Fair, Saturated, Welsch are refused (no boxplus
+//                              kernel)
+//   -robustKernelWidth X       --robust-width X (g2o's −1 = the kernel's default 1);
+//                              for DCS and GemanMcClure √X, since g2o takes their
+//                              width on e'Ωe and boxplus on its square root
 //   -guess                     --init spanning-tree (g2o: initial guess by spanning tree)
 //   -gaugeId N, -gaugeList L   --gauge L: hold these vertices instead of the first
 //   -summary FILE, -stats FILE --summary FILE (appends one line per run), --stats FILE
@@ -25,8 +28,11 @@
 #pragma once
 
 #include <cctype>
+#include <cmath>
 #include <map>
 #include <regex>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -71,9 +77,9 @@ inline std::string MethodOfG2oSolver(const std::string& name) {
 // boxplus does not have, the name itself for any other.
 inline std::string LossOfG2oKernel(const std::string& name) {
   static const std::map<std::string, std::string> known = {
-      {"Huber", "huber"}, {"Cauchy", "cauchy"}, {"Tukey", "tukey"}, {"PseudoHuber", "soft_l1"}};
-  static const std::vector<std::string> missing = {"DCS",       "Fair",   "GemanMcClure",
-                                                   "Saturated", "Welsch", "SaturatedHuber"};
+      {"Huber", "huber"},         {"Cauchy", "cauchy"}, {"Tukey", "tukey"},
+      {"PseudoHuber", "soft_l1"}, {"DCS", "dcs"},       {"GemanMcClure", "geman_mcclure"}};
+  static const std::vector<std::string> missing = {"Fair", "Saturated", "Welsch", "SaturatedHuber"};
   auto it = known.find(name);
   if (it != known.end()) return it->second;
   for (const auto& m : missing) {
@@ -83,14 +89,16 @@ inline std::string LossOfG2oKernel(const std::string& name) {
 }
 
 inline const char* kG2oKernelsHelp =
-    "g2o's robust kernels: Huber, Cauchy, Tukey, PseudoHuber (= soft_l1); boxplus' own: "
-    "huber, cauchy, tukey, soft_l1, arctan";
+    "g2o's robust kernels: Huber, Cauchy, Tukey, PseudoHuber (= soft_l1), DCS, GemanMcClure; "
+    "boxplus' own: huber, cauchy, tukey, soft_l1, arctan, dcs, geman_mcclure";
 
 // Rewrites g2o's spellings in `args` (argv without the program name) into
 // boxplus-g2o's; throws std::invalid_argument naming the flag for g2o flags
 // that have no boxplus meaning.
 inline std::vector<std::string> FromG2oFlags(const std::vector<std::string>& args) {
   std::vector<std::string> out;
+  bool width_on_chi2 = false;           // a g2o kernel whose width is on e'Ωe
+  size_t width_at = std::string::npos;  // where -robustKernelWidth's value went
   for (size_t k = 0; k < args.size(); ++k) {
     const std::string& a = args[k];
     auto value = [&]() -> std::string {
@@ -114,10 +122,12 @@ inline std::vector<std::string> FromG2oFlags(const std::vector<std::string>& arg
                                     " has no boxplus equivalent (" + kG2oKernelsHelp + ")");
       }
       out.insert(out.end(), {"--robust", loss});
+      width_on_chi2 = loss == "dcs" || loss == "geman_mcclure";
     } else if (a == "-robustKernelWidth") {
       const std::string w = value();
       // g2o's default −1 means "the kernel's own width", 1 for every kernel.
       out.insert(out.end(), {"--robust-width", w == "-1" || w == "-1.0" ? "1" : w});
+      width_at = out.size() - 1;
     } else if (a == "-guess") {
       out.insert(out.end(), {"--init", "spanning-tree"});
     } else if (a == "-gaugeId" || a == "-gaugeList") {
@@ -135,6 +145,22 @@ inline std::vector<std::string> FromG2oFlags(const std::vector<std::string>& arg
     } else {
       out.push_back(a);
     }
+  }
+  if (width_on_chi2 && width_at != std::string::npos) {
+    double w = 0.0;
+    try {
+      w = std::stod(out[width_at]);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("-robustKernelWidth " + out[width_at] + ": not a number");
+    }
+    if (!(w > 0.0) || !std::isfinite(w)) {
+      throw std::invalid_argument("-robustKernelWidth " + out[width_at] +
+                                  ": must be positive and finite");
+    }
+    std::ostringstream s;
+    s.precision(17);
+    s << std::sqrt(w);
+    out[width_at] = s.str();
   }
   return out;
 }

@@ -197,7 +197,7 @@ def load_g2o(
     ----------
     convention : {'g2o', 'log', 'compound', 'sesync'}
         Relative-pose error (module docstring); 'chordal' is 'sesync'.
-    robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1'}
+    robust : {'none', 'huber', 'cauchy', 'tukey', 'arctan', 'softl1', 'dcs', 'geman_mcclure'}
     robust_width : float
         Kernel width on ``sqrt(eᵀΩe)``.
     init : {'best', 'file', 'spanning-tree', 'chordal'}
