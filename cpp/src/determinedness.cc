@@ -337,6 +337,20 @@ std::string DescribeUndetermined(const Determinedness& d,
   // Past a few variables a list stops being read: the rest are counted.
   constexpr size_t kShown = 8;
   std::string out;
+  // A gauge: every undetermined variable free in all its directions and tied to all
+  // the others, i.e. the problem (or the part of it these variables form) can move
+  // as a whole. Said by name, since its remedy differs from missing data's.
+  bool gauge = d.undetermined.size() > 1;
+  for (const auto& u : d.undetermined) {
+    gauge = gauge && u.directions.cols() == u.directions.rows() &&
+            u.moves_with.size() + 1 == d.undetermined.size();
+  }
+  if (gauge) {
+    out =
+        "the position of the whole (a gauge freedom: these variables move together "
+        "without changing any residual; fix one or give one a prior): ";
+  }
+  const size_t prefix = out.size();
   size_t shown = 0;
   for (const auto& u : d.undetermined) {
     if (shown == kShown) {
@@ -344,7 +358,7 @@ std::string DescribeUndetermined(const Determinedness& d,
       break;
     }
     ++shown;
-    if (!out.empty()) out += "; ";
+    if (out.size() > prefix) out += "; ";
     out += "'" + name(u.variable) + "': ";
     const std::vector<std::string> l = labels ? labels(u.variable) : std::vector<std::string>{};
     const int dim = static_cast<int>(u.directions.rows());

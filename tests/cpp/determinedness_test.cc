@@ -206,8 +206,10 @@ TEST(Determinedness, OneRelativeMeasurementLeavesBothVariablesFree) {
   EXPECT_EQ(d.rank, 2);
   EXPECT_EQ(d.nullity(), 2);
   ExpectError([&] { p.Covariance(b); },
-              "covariance of 'b' is undefined: the measurements do not determine 'a': all 2 "
-              "directions (tied to 'b'); 'b': all 2 directions (tied to 'a')");
+              "covariance of 'b' is undefined: the measurements do not determine the position "
+              "of the whole (a gauge freedom: these variables move together without changing "
+              "any residual; fix one or give one a prior): 'a': all 2 directions (tied to 'b'); "
+              "'b': all 2 directions (tied to 'a')");
 }
 
 TEST(Determinedness, OneScalarSumNamesTheDirectionLeftFree) {
@@ -293,7 +295,8 @@ TEST(Determinedness, PoseChainWithoutAnchorIsAGauge) {
   EXPECT_EQ(d.nullity(), 6);
   EXPECT_EQ(d.undetermined.size(), 30u);
   ExpectError([&] { p.Covariance(ids[3]); },
-              "'x0': all 6 directions (tied to 'x1', 'x2', 'x3' "
+              "(a gauge freedom: these variables move together without changing any residual; "
+              "fix one or give one a prior): 'x0': all 6 directions (tied to 'x1', 'x2', 'x3' "
               "and 26 more)");
   // 30 variables: eight are named, the rest counted
   ExpectError([&] { p.Covariance(ids[3]); },

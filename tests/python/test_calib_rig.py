@@ -153,7 +153,19 @@ def test_plots_take_an_axes_and_return_the_figure(tmp_path):
     assert plot.plot_coverage(cal, "cam1", path=tmp_path / "cov.png").savefig is not None
     unc = projection_uncertainty(cal, "cam2", 0.6, grid=(8, 6))
     assert isinstance(plot.plot_projection_uncertainty(unc, path=tmp_path / "u.png"), Figure)
-    assert isinstance(plot.plot_residual_field(cal, "cam0"), Figure)
+    field = plot.plot_residual_field(cal, "cam0", grid=(4, 3))
+    arrows, bins = field.axes[:2]  # then their colour bars
+    assert "coloured by length" in arrows.get_title() and "per image region" in bins.get_title()
+    # each cell is the RMS length of the errors of the corners that fall in it (4 × 3 cells
+    # of 160 × 160 px over 640 × 480)
+    z, e = plot._camera_errors(cal, "cam0")
+    rms = bins.images[0].get_array()
+    cells = {(int(v // 160), int(u // 160)) for u, v in z}
+    assert len(cells) >= 3
+    for r, c in cells:
+        inside = (z[:, 0] // 160 == c) & (z[:, 1] // 160 == r)
+        assert rms[r, c] == pytest.approx(np.sqrt(np.mean(np.sum(e[inside] ** 2, axis=1))))
+    assert np.nansum([float(tx.get_text()) for tx in bins.texts]) == len(z)
     ax3 = Figure().add_subplot(projection="3d")
     assert plot.plot_rig(frames={"cam0": SE3()}, boards=[(SE3(), board_points())], ax=ax3) is ax3.figure
     assert isinstance(plot.plot_reprojection_errors(cal.problem, tmp_path / "e.png"), Figure)

@@ -102,6 +102,9 @@ Eigen::MatrixXd CovarianceOfDeterminedColumns(const Eigen::SparseMatrix<double>&
 // (e.g. "rotation about z"), else they are "d0", "d1", ...; a direction that
 // mixes several is written as their combination, "0.71 x + 0.71 y". Eight
 // variables at most are named; the rest are counted ("and 22 more variables").
+// When every undetermined variable is free in all its directions and tied to all
+// the others (the problem can move as a whole) the text starts "the position of the
+// whole (a gauge freedom: ...)".
 std::string DescribeUndetermined(
     const Determinedness& determinedness, const std::function<std::string(int)>& name,
     const std::function<std::vector<std::string>(int)>& labels = nullptr);
