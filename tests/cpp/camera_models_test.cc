@@ -5,6 +5,12 @@
 
 #include <ceres/jet.h>
 
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "boxplus/errors.h"
 #include "boxplus/factors/camera/models.h"
 
 namespace boxplus {
@@ -69,6 +75,46 @@ TEST(CameraModels, KannalaBrandtAxisBranchUnderJets) {
   double uv[2];
   KannalaBrandt::ProjectPoint(k0, p45, uv);
   EXPECT_NEAR(uv[0], 321 + 300 * kPi / 4, 1e-9);
+}
+
+// Every model's Unproject inverts its ProjectPoint: the ray of a projected point
+// projects back to the same pixel (1e-7 px) and points the same way, on lenses like
+// the ones calibrated in the tests (OpenCV's sample, a 180° fisheye, a double sphere
+// of ξ = −0.18), out to 80° off axis for the wide models; names and numbers agree.
+TEST(CameraModels, UnprojectInvertsProjectForEveryModel) {
+  const std::map<std::string, std::vector<double>> lenses = {
+      {"simple_radial", {500, 320, 240, -0.2}},
+      {"pinhole", {500, 505, 320, 240}},
+      {"radial1", {500, 505, 320, 240, -0.2}},
+      {"radial2", {500, 505, 320, 240, -0.25, 0.08}},
+      {"opencv5", {533, 533, 342, 235, -0.287, 0.081, 0.0011, -0.0001, 0.032}},
+      {"rational", {533, 533, 342, 235, -0.2, 0.05, 0.001, -0.002, 0.01, 0.1, 0.01, 0.0}},
+      {"kannala_brandt", {300, 300, 320, 240, 0.05, -0.01, 0.002, -0.0005}},
+      {"double_sphere", {300, 300, 320, 240, -0.18, 0.59}}};
+  ASSERT_EQ(lenses.size(), std::size(camera::kCameraModelNames));
+  for (const auto& [name, k] : lenses) {
+    const bool wide = name == "kannala_brandt" || name == "double_sphere";
+    const int index = camera::CameraModelIndex(name);
+    EXPECT_STREQ(camera::kCameraModelNames[index], name.c_str());
+    EXPECT_EQ(CameraModelSize(name), static_cast<int>(k.size())) << name;
+    for (double angle : {0.0, 0.2, 0.5, wide ? 1.4 : 0.6}) {
+      for (double az : {0.3, 2.0, -2.5}) {
+        const double p[3] = {std::sin(angle) * std::cos(az), std::sin(angle) * std::sin(az),
+                             std::cos(angle)};
+        double uv[2], ray[3], back[2];
+        camera::WithCameraModelIndex(index, [&](auto m) {
+          decltype(m)::ProjectPoint(k.data(), p, uv);
+          decltype(m)::Unproject(k.data(), uv, ray);
+          decltype(m)::ProjectPoint(k.data(), ray, back);
+        });
+        EXPECT_NEAR(back[0], uv[0], 1e-7) << name << " at " << angle;
+        EXPECT_NEAR(back[1], uv[1], 1e-7) << name << " at " << angle;
+        const double n = std::sqrt(ray[0] * ray[0] + ray[1] * ray[1] + ray[2] * ray[2]);
+        EXPECT_NEAR(ray[2] / n, p[2], 1e-9) << name << " at " << angle;
+      }
+    }
+  }
+  EXPECT_THROW(camera::CameraModelIndex("fisheye"), Error);
 }
 
 }  // namespace

@@ -58,13 +58,48 @@ def test_dh_pose_matches_homogeneous_matrices(convention):
         assert np.allclose(T.R, H[:3, :3], atol=1e-12) and np.allclose(T.pos, H[:3, 3], atol=1e-12)
 
 
+WIDE = {"kannala_brandt": [300, 302, 320, 240, 0.05, -0.01, 0.002, -0.0005],
+        "double_sphere": [300, 302, 320, 240, -0.18, 0.59]}
+
+
 @pytest.mark.parametrize("model,k", [("simple_radial", K1), ("pinhole", [600, 590, 320, 240]),
-                                     ("opencv5", [600, 590, 320, 240, -0.1, 0.02, 1e-3, -1e-3, 0.001])])
+                                     ("opencv5", [600, 590, 320, 240, -0.1, 0.02, 1e-3, -1e-3, 0.001]),
+                                     *WIDE.items()])
 def test_ray_inverts_project(model, k):
     rng = np.random.default_rng(1)
     p = np.column_stack([rng.uniform(-0.3, 0.3, (20, 2)), rng.uniform(0.5, 1.0, 20)])
     r = ray(model, k, project(model, k, p))
-    assert np.allclose(r, p / p[:, 2:], atol=1e-12)
+    assert np.allclose(r / r[:, 2:], p / p[:, 2:], atol=1e-12)
+
+
+@pytest.mark.parametrize("model", sorted(WIDE))
+def test_wide_angle_cameras_serve_every_joint_term(model):
+    # One camera-model home (camera/models.h): the joint terms take the fisheye and
+    # double-sphere models too, points 60° off axis included; values against the
+    # NumPy twins, Jacobians against central differences.
+    k = WIDE[model]
+    c21 = bp.SE3(bp.SO3.exp([0.01, -0.1, 0.02]), [-0.12, 0.003, 0.01])
+    rig = JointRig(root="stereo")
+    rig.add_camera("cam1", k, model)
+    rig.add_camera("cam2", k, model)
+    rig.add_system(Stereo("stereo", "cam1", "cam2", c21))
+    sheet = np.r_[np.array([1.0, 0.0, -0.2]) / np.linalg.norm([1.0, 0.0, -0.2]), -0.14]
+    rig.add_system(LightSheet("laser", "cam2", sheet), pose=c21.inverse())
+    rig.add_system(RangeSensor("lidar"), pose=bp.SE3(bp.SO3.exp([0.1, 0, 0]), [0.1, 0, 0.05]))
+    for p in ([0.05, -0.02, 0.7], [0.9, 0.3, 0.5]):  # the second 61° off camera 1's axis
+        p = np.asarray(p)
+        z1, z2 = project(model, k, p[None])[0], project(model, k, c21.fromlocal(p)[None])[0]
+        x = rig.stereo_point("stereo", z1, z2, sigma=0.3)
+        assert np.allclose(rig.evaluate(x), p, atol=1e-9)  # started at the two-view optimum
+        r = rig.sensor_point("lidar", rig.pose("lidar").inverse().fromlocal(p + 0.01))
+        rig.link(x, r, sigma=1e-3)
+    s = rig.sheet_point("laser", [330.0, 200.0])
+    s_cam = sheet_points(model, k, sheet, np.array([[330.0, 200.0]]))[0]
+    assert np.allclose(rig.evaluate(s), c21.inverse().fromlocal(s_cam), atol=1e-12)
+    m = rig.project(s, "stereo", [300.0, 250.0], camera=0, sigma=0.5)
+    expected = project(model, k, rig.evaluate(s)[None])[0] - [300.0, 250.0]
+    assert np.allclose(rig.problem.measurement_errors(m), expected, atol=1e-9)
+    _numeric_jacobian_check(rig.problem, list(range(rig.problem.num_measurements)))
 
 
 def _numeric_jacobian_check(o, mids, h=1e-6, rtol=1e-5, atol=1e-6):

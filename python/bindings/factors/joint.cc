@@ -83,7 +83,7 @@ joint::PointSpec ParsePoint(const py::dict& d, Blocks& b) {
   p.block = b.Map(d, "var");
   if (p.kind == joint::PointKind::kChain) p.chain = ParseChain(d["chain"].cast<py::dict>(), b);
   if (p.kind == joint::PointKind::kSheet || p.kind == joint::PointKind::kBeam) {
-    p.model = joint::CameraModelIndex(Get<std::string>(d, "model", "simple_radial"));
+    p.model = camera::CameraModelIndex(Get<std::string>(d, "model", "simple_radial"));
     p.camera = b.Map(d, "camera");
     p.uv = d["uv"].cast<Eigen::Vector2d>();
     p.beta = Get<double>(d, "beta", 0.0);
@@ -121,7 +121,7 @@ void RegisterJointFactors(py::module_& m) {
         if (spec.contains("surface")) t.surface = ParseSurface(spec["surface"].cast<py::dict>(), b);
         if (spec.contains("camera")) {
           const py::dict c = spec["camera"].cast<py::dict>();
-          t.camera.model = joint::CameraModelIndex(Get<std::string>(c, "model", "simple_radial"));
+          t.camera.model = camera::CameraModelIndex(Get<std::string>(c, "model", "simple_radial"));
           t.camera.intrinsics = b.Map(c, "intrinsics");
           t.camera.cam_from_system = b.Map(c, "cam_from_system");
           t.camera.pose = b.Map(c, "pose");

@@ -3,9 +3,9 @@
 * :func:`dh_pose` — base_from_target of a Denavit–Hartenberg chain, standard
   (Rot_z(θ) Trans_z(d) Trans_x(a) Rot_x(α)) or modified (Craig: Rot_x(α)
   Trans_x(a) Rot_z(θ) Trans_z(d)); a table is n × 4 rows [θ offset, d, a, α];
-* :func:`project` / :func:`ray` — the camera models of ``camera/models.h``
-  (``simple_radial`` [f, cx, cy, k1], ``pinhole``, ``radial1``, ``radial2``,
-  ``opencv5``) and their inverse on pixels (the same fixed-point undistortion);
+* :func:`project` / :func:`ray` — every camera model of ``camera/models.h`` and
+  its inverse on pixels, through :mod:`boxplus.calib.models` (argument order
+  model first, as the joint API names a camera's model before its numbers);
 * :func:`sheet_points` — light-sheet triangulation p = s·x̂, s = d / (n·x̂);
 * :func:`triangulate` — the two-view point minimising the reprojection error in
   both images (Gauss–Newton from the midpoint), the stereo system's I(α, u).
@@ -19,12 +19,11 @@ from typing import Any
 
 import numpy as np
 
+from boxplus.calib import models
+from boxplus.geometry import triangulate_midpoint
 from boxplus.manifolds import SE3, SO3
 
 __all__ = ["dh_pose", "project", "ray", "sheet_points", "triangulate", "plane_in"]
-
-_UNDISTORT_STEPS = 20  # as kUndistortSteps in terms.h
-_FOCALS = {"simple_radial": 1, "pinhole": 2, "radial1": 2, "radial2": 2, "opencv5": 2}
 
 
 def dh_pose(table: np.ndarray, joints: np.ndarray, convention: str = "standard",
@@ -44,49 +43,16 @@ def dh_pose(table: np.ndarray, joints: np.ndarray, convention: str = "standard",
     return T * end_from_target if end_from_target is not None else T
 
 
-def _split(model: str, k: np.ndarray) -> tuple[Any, Any, np.ndarray, np.ndarray, np.ndarray]:
-    nf = _FOCALS[model]
-    fx, fy = k[0], k[nf - 1]
-    c = k[nf:nf + 2]
-    rad = {"simple_radial": lambda: k[3:4], "pinhole": lambda: k[:0], "radial1": lambda: k[4:5],
-           "radial2": lambda: k[4:6], "opencv5": lambda: k[[4, 5, 8]]}[model]()
-    tang = k[6:8] if model == "opencv5" else np.zeros(2)
-    return fx, fy, c, rad, tang
-
-
-def _distort(model: str, k: np.ndarray, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    _, _, _, rad, (p1, p2) = _split(model, k)
-    r2 = x * x + y * y
-    s = 1.0 + sum(ki * r2 ** (i + 1) for i, ki in enumerate(rad))
-    xd = x * s + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
-    yd = y * s + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
-    return xd, yd
-
-
 def project(model: str, k: Any, p_in_cam: np.ndarray) -> np.ndarray:
-    """Pixels (N, 2) of points (N, 3) in the camera frame."""
-    k = np.asarray(k, float)
-    p = np.atleast_2d(p_in_cam)
-    fx, fy, c, _, _ = _split(model, k)
-    xd, yd = _distort(model, k, p[:, 0] / p[:, 2], p[:, 1] / p[:, 2])
-    return np.column_stack([fx * xd + c[0], fy * yd + c[1]])
+    """Pixels (N, 2) of points (N, 3) in the camera frame, any model of
+    :mod:`boxplus.calib.models` (the C++ terms' own maths, in one home)."""
+    return models.project(np.asarray(k, float), np.atleast_2d(p_in_cam), model)
 
 
 def ray(model: str, k: Any, uv: np.ndarray) -> np.ndarray:
-    """Viewing rays [x, y, 1] (N, 3) of pixels (N, 2)."""
-    k = np.asarray(k, float)
-    uv = np.atleast_2d(uv)
-    fx, fy, c, _, _ = _split(model, k)
-    xd, yd = (uv[:, 0] - c[0]) / fx, (uv[:, 1] - c[1]) / fy
-    x, y = xd.copy(), yd.copy()
-    if len(x):
-        for _ in range(_UNDISTORT_STEPS):
-            dx, dy = _distort(model, k, x, y)
-            ex, ey = dx - xd, dy - yd
-            x, y = x - ex, y - ey
-            if max(np.max(np.abs(ex)), np.max(np.abs(ey))) <= 1e-15:  # a fixed point: more steps change nothing
-                break
-    return np.column_stack([x, y, np.ones(len(x))])
+    """Viewing rays (N, 3) of pixels (N, 2): [x, y, 1] for the pinhole family, unit
+    vectors for the wide-angle models (:func:`boxplus.calib.models.rays`)."""
+    return models.rays(np.asarray(k, float), np.atleast_2d(uv), model)
 
 
 def sheet_points(model: str, k: Any, sheet: np.ndarray, uv: np.ndarray) -> np.ndarray:
@@ -110,7 +76,7 @@ def triangulate(model1: str, k1: Any, model2: str, k2: Any, cam2_from_cam1: SE3,
     R, t = cam2_from_cam1.R, cam2_from_cam1.pos
     o2 = -R.T @ t
     d2 = ray(model2, k2, z2) @ R
-    X = _midpoint(d1, o2, d2)
+    X = triangulate_midpoint(np.zeros(3), d1, o2, d2, what="triangulate")
     h = 1e-7
     for _ in range(iterations):
         def res(P: np.ndarray) -> np.ndarray:
@@ -123,12 +89,3 @@ def triangulate(model1: str, k1: Any, model2: str, k2: Any, cam2_from_cam1: SE3,
         X = X - np.linalg.solve(JtJ, Jtr[..., None])[..., 0]
     return X
 
-
-def _midpoint(d1: np.ndarray, o2: np.ndarray, d2: np.ndarray) -> np.ndarray:
-    """Midpoint of the shortest segment between rays s·d1 and o2 + u·d2."""
-    a, b, c = np.sum(d1 * d1, 1), np.sum(d1 * d2, 1), np.sum(d2 * d2, 1)
-    dd, e = d1 @ o2, d2 @ o2
-    den = a * c - b * b
-    s = (c * dd - b * e) / den
-    u = (b * dd - a * e) / den
-    return 0.5 * (s[:, None] * d1 + o2 + u[:, None] * d2)

@@ -307,7 +307,10 @@ class JointRig:
 
     def add_camera(self, name: str, intrinsics: Any, model: str = "simple_radial", fixed: bool = False,
                    prior_sigma: Any = None) -> int:
-        """A camera's intrinsics variable (``camera_model_size(model)`` numbers); returns its id."""
+        """A camera's intrinsics variable (``camera_model_size(model)`` numbers); returns its id.
+
+        ``model``: any model of :mod:`boxplus.calib.models` (the Brown–Conrady family,
+        ``rational``, ``kannala_brandt``, ``double_sphere``), in its order."""
         if name in self.cameras:
             raise ValueError(f"camera '{name}' exists already")
         k = np.asarray(intrinsics.vec if isinstance(intrinsics, Rn) else intrinsics, dtype=float).ravel()

@@ -1,14 +1,23 @@
 #include "boxplus/factors/camera/models.h"
 
+#include <iterator>
+
 #include "boxplus/errors.h"
 
 namespace boxplus {
 
 namespace camera {
 void ThrowUnknownCameraModel(const std::string& name) {
-  throw Error("unknown camera model '" + name +
-              "' (expected simple_radial, pinhole, radial1, radial2, opencv5, rational, "
-              "kannala_brandt or double_sphere)");
+  std::string known;
+  for (const char* m : kCameraModelNames) known += (known.empty() ? "" : ", ") + std::string(m);
+  throw Error("unknown camera model '" + name + "' (expected one of " + known + ")");
+}
+
+int CameraModelIndex(const std::string& name) {
+  for (size_t i = 0; i < std::size(kCameraModelNames); ++i) {
+    if (name == kCameraModelNames[i]) return static_cast<int>(i);
+  }
+  ThrowUnknownCameraModel(name);
 }
 }  // namespace camera
 

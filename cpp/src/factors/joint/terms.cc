@@ -28,9 +28,9 @@ struct Checker {
     if (block != kNoBlock) Block(block, size, role);
   }
   void Camera(int model, int block) const {
-    BOXPLUS_CHECK(model >= 0 && model < static_cast<int>(std::size(kCameraModels)), what,
-                  ": camera model index ", model, " out of range");
-    Block(block, CameraModelSize(kCameraModels[model]), "camera intrinsics");
+    BOXPLUS_CHECK(model >= 0 && model < static_cast<int>(std::size(camera::kCameraModelNames)),
+                  what, ": camera model index ", model, " out of range");
+    Block(block, CameraModelSize(camera::kCameraModelNames[model]), "camera intrinsics");
   }
   void Chain(const ChainSpec& c) const {
     const auto n = c.nominal.rows();
@@ -100,13 +100,6 @@ int TermResidualSize(TermKind kind) {
     default:
       return 1;
   }
-}
-
-int CameraModelIndex(const std::string& name) {
-  for (size_t i = 0; i < std::size(kCameraModels); ++i) {
-    if (name == kCameraModels[i]) return static_cast<int>(i);
-  }
-  camera::ThrowUnknownCameraModel(name);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeJointTerm(const TermSpec& spec,

@@ -33,9 +33,8 @@
 // the root frame (no pose), or the plane z = 0 of a chain's target
 // (n = R e_z, d = n·t of base_from_target) — the board plane as the arm sees it.
 // Poses [p, q(x,y,z,w)], tangent [δp, δθ]; lengths in metres, angles in radians,
-// pixels for z of kProjection. Camera models as in camera/models.h, chosen by index
-// (kCameraModels). ray() inverts the distortion by a fixed number of fixed-point steps
-// x ← x − (D(x) − x_d), a contraction where |dD/dx − I| < 1 (moderate distortion).
+// pixels for z of kProjection. Every camera model of camera/models.h, held by its
+// number in camera::kCameraModelNames; a pixel's ray is the model's Unproject.
 #pragma once
 
 #include <memory>
@@ -56,11 +55,7 @@ namespace joint {
 
 using Pose7 = Eigen::Matrix<double, 7, 1>;
 constexpr int kNoBlock = -1;
-constexpr int kUndistortSteps = 20;
 constexpr int kMaxJoints = 16;
-// Index → name of the camera models (the index a CameraSpec/PointSpec holds).
-inline const char* const kCameraModels[] = {"simple_radial", "pinhole", "radial1", "radial2",
-                                            "opencv5"};
 
 struct ChainSpec {
   kinematics::DHConvention convention = kinematics::DHConvention::kStandard;
@@ -131,44 +126,16 @@ int TermResidualSize(TermKind kind);
 
 namespace internal {
 
-// π(k, x, y) for the model with index `model`.
+// π(k, p) of a point in the camera frame, for the model numbered `model`.
 template <typename T>
-void Project(int model, const T* k, const T& x, const T& y, T* uv) {
-  switch (model) {
-    case 0:
-      return camera::SimpleRadial::Project(k, x, y, uv);
-    case 1:
-      return camera::Pinhole::Project(k, x, y, uv);
-    case 2:
-      return camera::Radial1::Project(k, x, y, uv);
-    case 3:
-      return camera::Radial2::Project(k, x, y, uv);
-    default:
-      return camera::OpenCV5::Project(k, x, y, uv);
-  }
+void Project(int model, const T* k, const T* p, T* uv) {
+  camera::WithCameraModelIndex(model, [&](auto m) { decltype(m)::ProjectPoint(k, p, uv); });
 }
 
-// [x, y, 1] with π(k, x, y) = uv: the affine part inverted exactly, the
-// distortion by fixed-point steps (see the top of the file).
+// A ray through the pixel uv (any length), for the model numbered `model`.
 template <typename T>
 void Ray(int model, const T* k, const Eigen::Vector2d& uv, T* ray) {
-  const int focals = (model == 0) ? 1 : 2;
-  const T& fx = k[0];
-  const T& fy = k[focals - 1];
-  const T xd = (T(uv[0]) - k[focals]) / fx;
-  const T yd = (T(uv[1]) - k[focals + 1]) / fy;
-  T x = xd, y = yd;
-  if (model != 1) {  // the pinhole model has no distortion
-    for (int i = 0; i < kUndistortSteps; ++i) {
-      T p[2];
-      Project(model, k, x, y, p);
-      x = x - ((p[0] - k[focals]) / fx - xd);
-      y = y - ((p[1] - k[focals + 1]) / fy - yd);
-    }
-  }
-  ray[0] = x;
-  ray[1] = y;
-  ray[2] = T(1.0);
+  camera::WithCameraModelIndex(model, [&](auto m) { decltype(m)::Unproject(k, uv.data(), ray); });
 }
 
 template <typename T>
@@ -304,7 +271,7 @@ void ProjectionResidual(const CameraSpec& c, const T* P, const double* z, const 
   } else {
     Transform(x[c.cam_from_system], p_sys, p_cam);
   }
-  Project(c.model, x[c.intrinsics], p_cam[0] / p_cam[2], p_cam[1] / p_cam[2], e);
+  Project(c.model, x[c.intrinsics], p_cam, e);
   e[0] -= T(z[0]);
   e[1] -= T(z[1]);
   r[0] = W(0, 0) * e[0] + W(0, 1) * e[1];
@@ -404,9 +371,6 @@ class JointTermFunctor {
 std::shared_ptr<ceres::CostFunction> MakeJointTerm(const TermSpec& spec,
                                                    const std::vector<int>& block_sizes,
                                                    const std::string& what);
-
-// The index of a camera model in kCameraModels; throws for an unknown name.
-int CameraModelIndex(const std::string& name);
 
 }  // namespace joint
 
