@@ -75,7 +75,8 @@ def test_every_public_module_has_an_api_page():
     public = {m.name for m in pkgutil.walk_packages(boxplus.__path__, "boxplus.")
               if not any(part.startswith("_") for part in m.name.split("."))}
     assert len(public) > 40  # the walk itself works
-    commands = {"boxplus.calib.cli": "boxplus-calib"}
+    commands = {"boxplus.calib.cli": "boxplus-calib",
+                "boxplus.calib.camera_imu_cli": "boxplus-camera-imu"}
     for command in commands.values():
         assert (DOCS / "cli" / f"{command}.rst").is_file(), command
     assert public - set(commands) <= documented, sorted(public - set(commands) - documented)

@@ -316,7 +316,10 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     true trajectory is a spline of smooth random control points (a rig swinging
     ±0.3 m and ±25° about a pose 0.8 m in front of the target), sampled by the IMU
     (with its biases and white noise) and seen by a pinhole camera at its own clock
-    (IMU time = camera time + ``time_offset``). Returns (data, truth, intrinsics)."""
+    (IMU time = camera time + ``time_offset``). Returns (data, truth, intrinsics); the
+    truth holds the camera's pose at every frame (``world_from_cam``; the target's 42
+    corners are those of ``chessboard:7x6:0.06`` shifted by (−0.18, −0.15, 0)), so
+    that images can be rendered (:mod:`boxplus.synthetic.images`)."""
     K = np.array([460.0, 460.0, 320.0, 240.0])
     imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
     target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
@@ -356,16 +359,17 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         gyro.append(w + bg + rng.normal(0, gyro_sigma, 3))
         accel.append(R.T @ (a - 9.81 * g_dir) + ba + rng.normal(0, accel_sigma, 3))
     frame_t = np.arange(0.2, duration - 0.2, 1.0 / camera_rate)
-    corners = []
+    corners, cam_poses = [], []
     for tc in frame_t:
         p, q, *_ = state(tc + time_offset)
         world_from_cam = SE3(SO3(q), p) * imu_from_cam
+        cam_poses.append(world_from_cam)
         pc = (target - world_from_cam.pos) @ world_from_cam.rot.R
         uv = project(K, pc, "pinhole")
         ok = (pc[:, 2] > 0) & np.all((uv >= 0) & (uv < [640, 480]), axis=1)
         corners.append((uv[ok] + rng.normal(0, pixel_sigma, (ok.sum(), 2)), target[ok])
                        if ok.sum() >= 8 else None)
     truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg, "accel_bias": ba,
-             "gravity": 9.81 * g_dir}
+             "gravity": 9.81 * g_dir, "world_from_cam": cam_poses}
     data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel))
     return data, truth, K

@@ -248,19 +248,12 @@ def _known_intrinsics(specs: list[str], models: dict[str, str]) -> dict[str, Any
         if not sep or cam not in models:
             raise SystemExit(f"boxplus-calib: --known-intrinsics '{spec}': expected CAMERA=FILE with "
                              f"CAMERA one of {', '.join(models)}")
-        rig = None
-        errors = []
-        for read in (io.read_opencv_yaml, io.read_camchain, lambda p: [io.read_camera_info(p)]):
-            try:
-                rig = read(path)
-                break
-            except (ValueError, KeyError, TypeError) as e:
-                errors.append(str(e))
-            except OSError as e:
-                raise SystemExit(f"boxplus-calib: --known-intrinsics: {e}") from None
-        if rig is None:
-            raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': not an OpenCV, Kalibr "
-                             f"or ROS calibration file ({errors[0]})")
+        try:
+            rig = io.read_cameras(path)
+        except OSError as e:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics: {e}") from None
+        except ValueError as e:
+            raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': {e}") from None
         found = [c for c in rig if c.name == cam] or (rig if len(rig) == 1 else [])
         if not found:
             raise SystemExit(f"boxplus-calib: --known-intrinsics '{path}': no camera '{cam}' in it "

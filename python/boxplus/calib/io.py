@@ -53,8 +53,9 @@ from boxplus.calib.rectify import StereoRectification, rectify_stereo
 from boxplus.files import atomic_path, write_atomically
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["Camera", "read_camchain", "read_camera_info", "read_opencv_yaml", "to_opencv",
-           "write_camchain", "write_camera_info", "write_opencv_yaml", "write_stereo_camera_info"]
+__all__ = ["Camera", "read_camchain", "read_camera_info", "read_cameras", "read_opencv_yaml",
+           "to_opencv", "write_camchain", "write_camchain_imucam", "write_camera_info",
+           "write_opencv_yaml", "write_stereo_camera_info", "write_yaml"]
 
 
 @dataclass
@@ -215,7 +216,7 @@ def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = N
            "camera_name": camera.name, "camera_matrix": _ros_mat(K), "distortion_model": model,
            "distortion_coefficients": _ros_mat(camera.dist[None]),
            "rectification_matrix": _ros_mat(R), "projection_matrix": _ros_mat(P)}
-    _write_yaml(path, doc)
+    write_yaml(path, doc)
 
 
 def write_stereo_camera_info(left_path: str | Path, right_path: str | Path, left: Camera,
@@ -232,9 +233,10 @@ def _ros_mat(M: np.ndarray) -> dict[str, Any]:
     return {"rows": int(M.shape[0]), "cols": int(M.shape[1]), "data": [float(v) for v in M.reshape(-1)]}
 
 
-def _write_yaml(path: str | Path, doc: dict[str, Any]) -> None:
-    """``yaml.safe_dump`` (block style, keys in order) or, without PyYAML, the same
-    mapping as text with the shortest round-trip numbers."""
+def write_yaml(path: str | Path, doc: dict[str, Any]) -> None:
+    """Writes a mapping of plain values atomically: ``yaml.safe_dump`` (block style, keys
+    in order) or, without PyYAML, the same mapping as text with the shortest
+    round-trip numbers."""
     try:
         yaml = require("yaml", "")
         text = yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=1000)
@@ -303,7 +305,23 @@ def write_camchain(path: str | Path, cameras: Sequence[Camera],
         if overlaps is not None:
             entry["cam_overlaps"] = [int(j) for j in overlaps[i]]
         doc[f"cam{i}"] = entry
-    _write_yaml(path, doc)
+    write_yaml(path, doc)
+
+
+def write_camchain_imucam(path: str | Path, camera: Camera, cam_from_imu: SE3,
+                          timeshift: float, topic: str | None = None) -> None:
+    """Writes a camera–IMU calibration as Kalibr's ``camchain-imucam.yaml``: the camera's
+    entry plus ``T_cam_imu`` (cam_from_imu: IMU coordinates into camera coordinates,
+    4 × 4) and ``timeshift_cam_imu`` (s; t_imu = t_cam + timeshift)."""
+    cm, intr, dm, dc = _kalibr_entry(camera)
+    T = cam_from_imu.matrix()
+    write_yaml(path, {"cam0": {
+        "T_cam_imu": [[float(v) for v in row] for row in T],
+        "camera_model": cm, "intrinsics": [float(v) for v in intr], "distortion_model": dm,
+        "distortion_coeffs": [float(v) for v in dc],
+        "resolution": [int(camera.image_size[0]), int(camera.image_size[1])],
+        "rostopic": topic or f"/{camera.name}/image_raw",
+        "timeshift_cam_imu": float(timeshift)}})
 
 
 # ---- reading ------------------------------------------------------------------------
@@ -483,3 +501,17 @@ def read_camchain(path: str | Path) -> list[Camera]:
     if not out:
         raise ValueError(f"{path}: no cam0 entry (not a Kalibr camchain)")
     return out
+
+
+def read_cameras(path: str | Path) -> list[Camera]:
+    """The cameras of a calibration file in any of the formats boxplus writes: OpenCV
+    YAML, a Kalibr camchain (also camchain-imucam) or a ROS camera_info; a ValueError
+    naming the file when it is none of them."""
+    errors = []
+    for read in (read_opencv_yaml, read_camchain, lambda p: [read_camera_info(p)]):
+        try:
+            return read(path)
+        except (ValueError, KeyError, TypeError) as e:
+            errors.append(str(e))
+    raise ValueError(f"{path}: not an OpenCV, Kalibr or ROS calibration file ({errors[0]})")
+

@@ -1,0 +1,232 @@
+"""``boxplus-camera-imu``: calibrate a camera and an IMU from a recording in motion.
+
+The recording is a folder in the EuRoC/ASL layout (``cam0/data.csv`` + images,
+``imu0/data.csv``; :mod:`boxplus.calib.recordings`), the camera's intrinsics come
+from an earlier calibration (``boxplus-calib``'s OpenCV YAML, a Kalibr camchain or a
+ROS camera_info), the target and the IMU's noise from Kalibr's ``target.yaml`` and
+``imu.yaml`` (or boxplus' ``--target`` spelling and σ per sample)::
+
+    boxplus-camera-imu recording/ --intrinsics calibration.yml \\
+        --target target.yaml --imu imu.yaml --out result/
+
+writes ``camchain-imucam.yaml`` (Kalibr's file: ``T_cam_imu``, ``timeshift_cam_imu``),
+``report.txt`` (every estimate with σ) and ``camera_imu.png`` (the gyroscope against
+the fitted trajectory, the reprojection errors). Exit codes: 0 success, 1 the data
+did not give a plausible answer (the message says what to check), 2 bad input, 130
+interrupted while detecting (Ctrl-C during the solve keeps its best estimate).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["main"]
+
+
+def _parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(
+        prog="boxplus-camera-imu",
+        description="Calibrate a camera and an IMU (imu_from_cam, the clocks' time offset, "
+                    "the biases) from a recording in motion, in the EuRoC/ASL folder layout.",
+        epilog="Example: boxplus-camera-imu recording/ --intrinsics calibration.yml "
+               "--target target.yaml --imu imu.yaml --out result/")
+    ap.add_argument("folder", help="the recording: FOLDER[/mav0]/cam0/data.csv, cam0/data/*.png, "
+                                   "imu0/data.csv (timestamps in ns)")
+    ap.add_argument("--intrinsics", required=True, metavar="FILE",
+                    help="the camera's calibration: OpenCV YAML (boxplus-calib), Kalibr "
+                         "camchain or ROS camera_info")
+    ap.add_argument("--camera-name", default=None,
+                    help="the camera in --intrinsics (default: its only or first camera)")
+    ap.add_argument("--target", required=True,
+                    help="Kalibr's target.yaml, or chessboard:COLSxROWS:SQUARE / "
+                         "aprilgrid:COLSxROWS:TAG:SPACING (metres)")
+    ap.add_argument("--imu", metavar="IMU_YAML",
+                    help="Kalibr's imu.yaml (noise densities and rate); else --gyro-sigma and "
+                         "--accel-sigma")
+    ap.add_argument("--gyro-sigma", type=float, default=None,
+                    help="σ of one gyroscope sample (rad/s)")
+    ap.add_argument("--accel-sigma", type=float, default=None,
+                    help="σ of one accelerometer sample (m/s²)")
+    ap.add_argument("--pixel-sigma", type=float, default=0.5, help="corner σ in px (default 0.5)")
+    ap.add_argument("--knot-spacing", type=float, default=0.05,
+                    help="the trajectory spline's knot spacing in s (default 0.05)")
+    ap.add_argument("--max-offset", type=float, default=0.1,
+                    help="the largest time offset searched, in s (default 0.1)")
+    ap.add_argument("--cam", default="cam0", help="the camera's subfolder (default cam0)")
+    ap.add_argument("--imu-folder", default="imu0", help="the IMU's subfolder (default imu0)")
+    ap.add_argument("--out", type=Path, default=Path("camera_imu"),
+                    help="output folder (default ./camera_imu); files are written atomically")
+    ap.add_argument("--no-plots", action="store_true", help="write no PNG")
+    ap.add_argument("--quiet", action="store_true", help="no progress lines")
+    return ap
+
+
+def _fail(message: str, code: int = 2) -> SystemExit:
+    print(f"boxplus-camera-imu: {message}", file=sys.stderr)
+    return SystemExit(code)
+
+
+def _camera(args: Any) -> Any:
+    from boxplus.calib import io
+
+    try:
+        cams = io.read_cameras(args.intrinsics)
+    except (OSError, ValueError) as e:
+        raise _fail(f"--intrinsics: {e}") from None
+    if args.camera_name is None:
+        return cams[0]
+    found = [c for c in cams if c.name == args.camera_name]
+    if not found:
+        raise _fail(f"--intrinsics '{args.intrinsics}': no camera '{args.camera_name}' "
+                    f"(it has {', '.join(c.name for c in cams)})")
+    return found[0]
+
+
+def _target(spec: str) -> Any:
+    from boxplus.calib.recordings import read_kalibr_target
+    from boxplus.calib.targets import parse_target
+
+    try:
+        if Path(spec).suffix in (".yaml", ".yml") or Path(spec).is_file():
+            return read_kalibr_target(spec)
+        return parse_target(spec)
+    except (OSError, ValueError) as e:
+        raise _fail(f"--target: {e}") from None
+
+
+def _noise(args: Any) -> tuple[float, float]:
+    from boxplus.calib.recordings import read_kalibr_imu
+
+    if args.imu:
+        try:
+            imu = read_kalibr_imu(args.imu)
+        except (OSError, ValueError) as e:
+            raise _fail(f"--imu: {e}") from None
+        return imu.gyro_sigma, imu.accel_sigma
+    if args.gyro_sigma is None or args.accel_sigma is None:
+        raise _fail("give the IMU's noise: --imu imu.yaml, or --gyro-sigma and --accel-sigma")
+    for name, v in (("--gyro-sigma", args.gyro_sigma), ("--accel-sigma", args.accel_sigma)):
+        if not (np.isfinite(v) and v > 0):
+            raise _fail(f"{name} must be positive, got {v}")
+    return args.gyro_sigma, args.accel_sigma
+
+
+def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: float) -> str:
+    ic = cal.imu_from_cam
+    s = cal.std("imu_from_cam")
+    rot = np.degrees(ic.rot.log())
+    found = sum(c is not None for c in data.corners)
+    lines = [
+        f"boxplus-camera-imu: camera '{camera.name}' ({camera.model}), {len(data.frame_times)} "
+        f"images ({found} with the target), {len(data.imu_times)} IMU samples",
+        f"noise: gyroscope σ {gyro_sigma:.4g} rad/s, accelerometer σ {accel_sigma:.4g} m/s² per "
+        f"sample",
+        f"solve: {cal.summary.termination}; RMS per group "
+        + ", ".join(f"{g} {r:.4g}" for g, r in cal.problem.rms().items()),
+        "imu_from_cam (value ± σ):",
+        "  translation (m): " + ", ".join(f"{a} {v:+.5f} ± {e:.5f}"
+                                          for a, v, e in zip("xyz", ic.pos, s[:3])),
+        "  rotation vector (deg): " + ", ".join(f"{a} {v:+.4f} ± {np.degrees(e):.4f}"
+                                                for a, v, e in zip("xyz", rot, s[3:])),
+        f"time offset: t_imu = t_cam + {cal.time_offset * 1e3:+.4f} ms ± "
+        f"{cal.std('time_offset')[0] * 1e3:.4f} ms",
+        "gyroscope bias (rad/s): " + " ".join(f"{v:+.5f}" for v in cal.gyro_bias)
+        + "  ± " + " ".join(f"{v:.5f}" for v in cal.std("gyro_bias")),
+        "accelerometer bias (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.accel_bias)
+        + "  ± " + " ".join(f"{v:.4f}" for v in cal.std("accel_bias")),
+        "gravity in the target frame (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.gravity),
+    ]
+    return "\n".join(lines)
+
+
+def _plot(cal: Any, data: Any, path: Path) -> None:
+    from boxplus._optional import require
+    from boxplus.files import save_figure
+
+    Figure = require("matplotlib.figure", "plotting").Figure
+    fig = Figure(figsize=(12, 4.5))
+    a, b = fig.subplots(1, 2)
+    t = data.imu_times
+    inside = (t >= cal.t0 + cal.knot_spacing) & (t < cal.t0 + (cal._n_knots() - 4) * cal.knot_spacing)
+    t = t[inside][: int(4.0 * len(t) / max(t[-1] - t[0], 1e-9))]  # about 4 s
+    fitted = np.array([cal.angular_velocity(ti) for ti in t]) + cal.gyro_bias
+    gyro = data.gyro[inside][: len(t)]
+    for j, axis in enumerate("xyz"):
+        a.plot(t, gyro[:, j], ".", ms=2, color=f"C{j}", label=f"gyro {axis}")
+        a.plot(t, fitted[:, j], "-", lw=1, color=f"C{j}")
+    a.set(xlabel="IMU time (s)", ylabel="angular velocity (rad/s)",
+          title="gyroscope (dots) and the fitted trajectory (lines)")
+    a.legend(fontsize=8, ncol=3)
+    e = cal.problem.errors()["reprojection"]
+    b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5)
+    b.set(xlabel="error u (px)", ylabel="error v (px)", aspect="equal",
+          title=f"reprojection errors of {len(e)} corners, RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
+    fig.tight_layout()
+    save_figure(fig, path, dpi=90)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    from boxplus.calib import io
+    from boxplus.calib.camera_imu import calibrate_camera_imu
+    from boxplus.calib.recordings import detect_recording, read_euroc
+
+    camera = _camera(args)
+    target = _target(args.target)
+    gyro_sigma, accel_sigma = _noise(args)
+    try:
+        recording = read_euroc(args.folder, args.cam, args.imu_folder)
+    except (OSError, ValueError) as e:
+        raise _fail(str(e)) from None
+    out = args.out
+    if out.resolve() == Path(args.folder).resolve() or Path(args.folder).resolve() in out.resolve().parents:
+        raise _fail(f"--out {out} is inside the recording {args.folder}: choose another folder")
+
+    def progress(done: int, total: int) -> None:
+        if not args.quiet and (done == total or done % max(1, total // 10) == 0):
+            print(f"detecting: {done}/{total} images", file=sys.stderr, flush=True)
+
+    try:
+        # Ctrl-C during a solve stops it at its best estimate (the summary says
+        # 'interrupted' and so does the report); during detection nothing is estimated yet
+        data = detect_recording(recording, target, progress)
+        cal = calibrate_camera_imu(data, camera.intrinsics, camera.model, pixel_sigma=args.pixel_sigma,
+                                   gyro_sigma=gyro_sigma, accel_sigma=accel_sigma,
+                                   knot_spacing=args.knot_spacing, max_offset=args.max_offset)
+    except ValueError as e:
+        raise _fail(str(e), code=1) from None
+    except KeyboardInterrupt:
+        raise _fail("interrupted before an estimate existed; nothing written", code=130) from None
+    report = _report(cal, camera, data, gyro_sigma, accel_sigma)
+    print(report)
+    out.mkdir(parents=True, exist_ok=True)
+    from boxplus.files import write_atomically
+
+    written = []
+    try:
+        io.write_camchain_imucam(out / "camchain-imucam.yaml", camera, cal.imu_from_cam.inverse(),
+                                 cal.time_offset)
+        written.append("camchain-imucam.yaml")
+    except ValueError as e:  # a lens Kalibr cannot describe: its reader would misread it
+        print(f"not written: camchain-imucam.yaml: {e}", file=sys.stderr)
+    # boxplus' own file: every estimate and σ, whatever the lens
+    io.write_yaml(out / "camera_imu.yaml", {
+        "camera": camera.name, "model": camera.model,
+        "T_cam_imu": cal.imu_from_cam.inverse().matrix().tolist(),
+        "timeshift_cam_imu": cal.time_offset, **cal.todict()})
+    write_atomically(out / "report.txt", report + "\n")
+    written += ["camera_imu.yaml", "report.txt"]
+    if not args.no_plots:
+        _plot(cal, data, out / "camera_imu.png")
+        written.append("camera_imu.png")
+    print(f"wrote {', '.join(written)} to {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
