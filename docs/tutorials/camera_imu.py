@@ -14,9 +14,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 from boxplus.calib.camera_imu import calibrate_camera_imu, simulate_camera_imu
+from boxplus.calib.plot import plot_camera_imu
 
 HERE = Path(__file__).resolve().parent
 
@@ -49,25 +49,10 @@ def print_table(truth, cal) -> None:
 
 
 def picture(data, cal, path: Path) -> None:
-    fig, (a, b) = plt.subplots(1, 2, figsize=(12, 4.5))
-    # the gyroscope against the fitted trajectory's body rate (+ bias), 2 s of it
-    window = (data.imu_times > 2.0) & (data.imu_times < 4.0)
-    t = data.imu_times[window]
-    fitted = np.array([cal.angular_velocity(ti) for ti in t]) + cal.gyro_bias
-    for j, axis in enumerate("xyz"):
-        a.plot(t, data.gyro[window, j], ".", ms=2, color=f"C{j}", label=f"gyro {axis}")
-        a.plot(t, fitted[:, j], "-", lw=1, color=f"C{j}")
-    a.set(xlabel="IMU time [s]", ylabel="angular velocity [rad/s]",
-          title="gyroscope samples (dots) and the fitted spline (lines)")
-    a.legend(fontsize=8, ncol=3)
-    # the corners' reprojection errors, in pixels
-    e = cal.problem.errors()["reprojection"]
-    b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5)
-    b.set(xlabel="error u [px]", ylabel="error v [px]", aspect="equal",
-          title=f"reprojection errors of {len(e)} corners, RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
-    fig.tight_layout()
+    # The gyroscope against the fitted trajectory's angular velocity (plus the bias,
+    # CameraImuCalibration.angular_velocity), and every corner's reprojection error.
+    fig = plot_camera_imu(cal, data, seconds=2.0)
     fig.savefig(path, dpi=90)
-    plt.close(fig)
 
 
 def main() -> None:

@@ -121,7 +121,7 @@ def test_the_command_line_calibrates_the_rendered_recording(recording, tmp_path)
     out = tmp_path / "out"
     assert main([str(folder), "--intrinsics", str(folder / "calibration.yml"), "--target",
                  str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"),
-                 "--pixel-sigma", "0.3", "--out", str(out), "--quiet", "--no-plots"]) == 0
+                 "--pixel-sigma", "0.3", "--out", str(out), "--quiet"]) == 0
     # Kalibr's file, read as Kalibr reads it: T_cam_imu maps IMU points into the camera,
     # t_imu = t_cam + timeshift_cam_imu
     doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())["cam0"]
@@ -135,6 +135,7 @@ def test_the_command_line_calibrates_the_rendered_recording(recording, tmp_path)
     own = yaml.safe_load((out / "camera_imu.yaml").read_text())
     assert own["time_offset"] == doc["timeshift_cam_imu"] and len(own["std"]["imu_from_cam"]) == 6
     assert "time offset: t_imu = t_cam +" in (out / "report.txt").read_text()
+    assert (out / "camera_imu.png").read_bytes()[:4] == b"\x89PNG"
 
 
 def test_the_command_line_refuses_bad_input_by_name(recording, tmp_path, capsys):

@@ -144,32 +144,6 @@ def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: fl
     return "\n".join(lines)
 
 
-def _plot(cal: Any, data: Any, path: Path) -> None:
-    from boxplus._optional import require
-    from boxplus.files import save_figure
-
-    Figure = require("matplotlib.figure", "plotting").Figure
-    fig = Figure(figsize=(12, 4.5))
-    a, b = fig.subplots(1, 2)
-    t = data.imu_times
-    inside = (t >= cal.t0 + cal.knot_spacing) & (t < cal.t0 + (cal._n_knots() - 4) * cal.knot_spacing)
-    t = t[inside][: int(4.0 * len(t) / max(t[-1] - t[0], 1e-9))]  # about 4 s
-    fitted = np.array([cal.angular_velocity(ti) for ti in t]) + cal.gyro_bias
-    gyro = data.gyro[inside][: len(t)]
-    for j, axis in enumerate("xyz"):
-        a.plot(t, gyro[:, j], ".", ms=2, color=f"C{j}", label=f"gyro {axis}")
-        a.plot(t, fitted[:, j], "-", lw=1, color=f"C{j}")
-    a.set(xlabel="IMU time (s)", ylabel="angular velocity (rad/s)",
-          title="gyroscope (dots) and the fitted trajectory (lines)")
-    a.legend(fontsize=8, ncol=3)
-    e = cal.problem.errors()["reprojection"]
-    b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5)
-    b.set(xlabel="error u (px)", ylabel="error v (px)", aspect="equal",
-          title=f"reprojection errors of {len(e)} corners, RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=90)
-
-
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from boxplus.calib import io
@@ -222,7 +196,9 @@ def main(argv: list[str] | None = None) -> int:
     write_atomically(out / "report.txt", report + "\n")
     written += ["camera_imu.yaml", "report.txt"]
     if not args.no_plots:
-        _plot(cal, data, out / "camera_imu.png")
+        from boxplus.calib.plot import plot_camera_imu
+
+        plot_camera_imu(cal, data, out / "camera_imu.png")
         written.append("camera_imu.png")
     print(f"wrote {', '.join(written)} to {out}")
     return 0

@@ -301,3 +301,31 @@ def plot_rig(path: Any = None, frames: Mapping[str, SE3] | None = None,
         ax.set_zlim(c[2] - r, c[2] + r)
     ax.set_title(title)
     return _finish(fig, path)
+
+
+def plot_camera_imu(cal: Any, data: Any, path: Any = None, seconds: float = 2.0) -> Any:
+    """A camera–IMU calibration (:func:`boxplus.calib.camera_imu.calibrate_camera_imu`)
+    beside its data: ``seconds`` of gyroscope samples (dots) against the fitted
+    trajectory's angular velocity plus the bias (lines), and the corners' reprojection
+    errors (px)."""
+    Figure = require("matplotlib.figure", "plotting").Figure
+    fig = Figure(figsize=(12, 4.5))
+    a, b = fig.subplots(1, 2)
+    t_all = np.asarray(data.imu_times, float)
+    lo = cal.t0 + cal.knot_spacing  # inside the spline, past its first segment
+    window = (t_all >= lo) & (t_all < lo + seconds) & \
+        (t_all < cal.t0 + (cal._n_knots() - 4) * cal.knot_spacing)
+    t = t_all[window]
+    fitted = np.array([cal.angular_velocity(ti) for ti in t]).reshape(-1, 3) + cal.gyro_bias
+    for j, axis in enumerate("xyz"):
+        a.plot(t, np.asarray(data.gyro)[window, j], ".", ms=2, color=f"C{j}", label=f"gyro {axis}")
+        a.plot(t, fitted[:, j], "-", lw=1, color=f"C{j}")
+    a.set(xlabel="IMU time (s)", ylabel="angular velocity (rad/s)",
+          title="gyroscope samples (dots) and the fitted trajectory (lines)")
+    a.legend(fontsize=8, ncol=3)
+    e = cal.problem.errors()["reprojection"]
+    b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5)
+    b.set(xlabel="error u (px)", ylabel="error v (px)", aspect="equal",
+          title=f"reprojection errors of {len(e)} corners, RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
+    return _finish(fig, path)
+
