@@ -126,14 +126,18 @@ def test_the_command_line_calibrates_the_rendered_recording(recording, tmp_path)
     # t_imu = t_cam + timeshift_cam_imu
     doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())["cam0"]
     T = np.array(doc["T_cam_imu"])
-    cam_from_imu = IMU_FROM_CAM.inverse()
-    assert np.allclose(T[:3, 3], cam_from_imu.pos, atol=3e-3)
-    R_err = T[:3, :3] @ cam_from_imu.rot.R.T
-    assert np.degrees(np.arccos(np.clip((np.trace(R_err) - 1) / 2, -1, 1))) < 0.2
-    assert doc["timeshift_cam_imu"] == pytest.approx(0.012, abs=5e-4)
-    assert doc["camera_model"] == "pinhole" and doc["distortion_model"] == "none"
+    imu_from_cam = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
     own = yaml.safe_load((out / "camera_imu.yaml").read_text())
-    assert own["time_offset"] == doc["timeshift_cam_imu"] and len(own["std"]["imu_from_cam"]) == 6
+    sigma = np.array(own["std"]["imu_from_cam"])  # tangent [translation, rotation]
+    err = np.r_[imu_from_cam.pos - IMU_FROM_CAM.pos,
+                (IMU_FROM_CAM.rot.inverse() * imu_from_cam.rot).log()]
+    assert np.all(np.abs(err) < 4 * sigma) and np.linalg.norm(err[:3]) < 6e-3
+    assert np.degrees(np.linalg.norm(err[3:])) < 0.2
+    assert abs(doc["timeshift_cam_imu"] - 0.012) < 4 * own["std"]["time_offset"][0]
+    assert doc["camera_model"] == "pinhole" and doc["distortion_model"] == "none"
+    assert own["time_offset"] == doc["timeshift_cam_imu"]
+    # imu.yaml's random walks make the biases drift: 0.1 s segments over the ~3 s
+    assert len(own["gyro_biases"]) >= 25
     assert "time offset: t_imu = t_cam +" in (out / "report.txt").read_text()
     assert (out / "camera_imu.png").read_bytes()[:4] == b"\x89PNG"
 

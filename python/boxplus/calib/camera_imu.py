@@ -11,8 +11,12 @@ target corner a camera saw at its timestamp t_c, reprojected from the pose at IM
 time t_c + d (d, the time offset, a variable) through imu_from_cam and any camera
 model of :mod:`boxplus.calib.models`. Each is whitened by its noise: the IMU's
 white-noise densities (Kalibr's ``imu.yaml``: σ_discrete = density · √rate) and the
-corner σ. The biases are constant over the data (bias random walks between bias
-knots are not modelled yet).
+corner σ. The biases are constant over the data, or, given the random-walk
+densities (Kalibr's ``gyroscope_random_walk``, ``accelerometer_random_walk``),
+piecewise constant over segments of ``bias_spacing`` seconds, consecutive segments
+tied by the random walk: (b_{k+1} − b_k) / (q √Δ) is one unit of noise per axis
+(the variance of a Wiener process of density q over Δ; of two segment means it would
+be ⅔ of that, so this is the looser tie).
 
 Initialisation needs no hand tuning:
 
@@ -84,8 +88,15 @@ class CameraImuCalibration:
     gravity: np.ndarray
     summary: Any = None
     initial: dict[str, Any] = field(default_factory=dict)
+    # the bias segments: boundaries (K + 1, IMU time) and each segment's biases (K, 3);
+    # K = 1 when the biases are constant, and gyro_bias/accel_bias are their means
+    bias_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    gyro_biases: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    accel_biases: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
 
     def std(self, name: str) -> np.ndarray:
+        """σ of a variable of ``ids`` (tangent order); "gyro_bias"/"accel_bias" are the
+        first bias segment's, "gyro_bias[k]" the k-th's."""
         return self.problem.std(self.ids[name])
 
     def todict(self) -> dict[str, Any]:
@@ -189,14 +200,29 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
                          pixel_sigma: float = 0.5, gyro_sigma: float = 0.005,
                          accel_sigma: float = 0.05, knot_spacing: float = 0.05,
                          max_offset: float = 0.1, gravity_magnitude: float = 9.81,
-                         estimate_intrinsics: bool = False) -> CameraImuCalibration:
+                         estimate_intrinsics: bool = False, gyro_random_walk: float | None = None,
+                         accel_random_walk: float | None = None,
+                         bias_spacing: float = 0.1) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
 
     ``intrinsics`` in ``model``'s order (from ``boxplus-calib``); held fixed unless
     ``estimate_intrinsics``. ``gyro_sigma``/``accel_sigma``: the per-sample noise
-    (rad/s, m/s²; Kalibr's density × √rate). Raises ValueError naming what is missing
-    (too few frames with corners, IMU samples not covering the frames)."""
+    (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
+    (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
+    ``bias_spacing`` seconds (module docstring); both or neither. Raises ValueError
+    naming what is missing (too few frames with corners, IMU samples not covering the
+    frames)."""
+    if (gyro_random_walk is None) != (accel_random_walk is None):
+        raise ValueError("calibrate_camera_imu: give both random walks (gyro_random_walk, "
+                         "accel_random_walk) or neither")
+    walks: tuple[float, float] | None = None
+    if gyro_random_walk is not None and accel_random_walk is not None:
+        walks = (float(gyro_random_walk), float(accel_random_walk))
+        if not all(np.isfinite(w) and w > 0 for w in walks):
+            raise ValueError(f"calibrate_camera_imu: random walks must be positive, got {walks}")
+    if not (np.isfinite(bias_spacing) and bias_spacing > 0):
+        raise ValueError(f"calibrate_camera_imu: bias_spacing must be positive, got {bias_spacing}")
     k = np.asarray(intrinsics, dtype=float)
     if k.size != len(model_labels(model)):
         raise ValueError(f"calibrate_camera_imu: {model} has {len(model_labels(model))} intrinsics, "
@@ -250,8 +276,23 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     for j in range(n_knots):
         # control point j sits near time t0 + (j − 1) dt (the B-spline's centre)
         ids[f"knot{j}"] = o.add_random_var(nearest(t0 + (j - 1) * dt) * cam_from_imu0, name=f"knot{j}")
-    ids["gyro_bias"] = o.add_random_var(Rn(np.zeros(3)), name="gyro_bias", labels=["x", "y", "z"])
-    ids["accel_bias"] = o.add_random_var(Rn(np.zeros(3)), name="accel_bias", labels=["x", "y", "z"])
+    inside = (t_imu >= t0) & (t_imu < t0 + (n_knots - 3) * dt)
+    # bias segments over the IMU samples the spline covers (one segment: constant biases)
+    t_in = t_imu[inside]
+    n_seg = 1 if walks is None else max(1, int(np.ceil((t_in[-1] - t_in[0]) / bias_spacing)))
+    bias_times = np.linspace(t_in[0], t_in[-1], n_seg + 1)
+    segment = np.clip(np.searchsorted(bias_times, t_in, side="right") - 1, 0, n_seg - 1)
+    for kind in ("gyro_bias", "accel_bias"):
+        for s in range(n_seg):
+            name = kind if s == 0 else f"{kind}[{s}]"
+            ids[name] = o.add_random_var(Rn(np.zeros(3)), name=name, labels=["x", "y", "z"])
+        ids[f"{kind}[0]"] = ids[kind]
+    if walks is not None and n_seg > 1:
+        for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
+            sigma = q * np.sqrt(bias_times[1] - bias_times[0])
+            for s in range(n_seg - 1):
+                o.add_measurement(np.zeros(3), _bias_step, [ids[f"{kind}[{s}]"], ids[f"{kind}[{s + 1}]"]],
+                                  sigma=sigma, name=f"{kind} walk {s}")
     # gravity: the mean specific force in the world is −|g| ĝ when the motion averages out
     f_world = [nearest(t).rot.R @ R_ic.T @ a for t, a in zip(t_imu, accel)]
     g_dir = -np.mean(f_world, axis=0)
@@ -264,12 +305,12 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     gn = NoiseModel.isotropic(3, gyro_sigma)
     an = NoiseModel.isotropic(3, accel_sigma)
     pn = NoiseModel.isotropic(2, pixel_sigma)
-    inside = (t_imu >= t0) & (t_imu < t0 + (n_knots - 3) * dt)
-    for t, w, a in zip(t_imu[inside], gyro[inside], accel[inside]):
+    for t, w, a, s in zip(t_in, gyro[inside], accel[inside], segment):
         i, u = _segment(t, t0, dt, n_knots)
         kn = knots[i:i + 4]
-        o.add_factor(_core.spline_gyro_factor(kn, ids["gyro_bias"], u, dt, w, gn), group="gyroscope")
-        o.add_factor(_core.spline_accel_factor(kn, ids["accel_bias"], ids["gravity"], u, dt, a, an,
+        o.add_factor(_core.spline_gyro_factor(kn, ids[f"gyro_bias[{s}]"], u, dt, w, gn),
+                     group="gyroscope")
+        o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
                                                gravity_magnitude), group="accelerometer")
     for t, (uv, pts) in frames:
         i, u = _segment(t + d0, t0, dt, n_knots)
@@ -299,11 +340,18 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
         raise ValueError(f"calibrate_camera_imu: the solve did not reach a plausible answer (time "
                          f"offset {d:.4g} s from a start of {d0:.4g} s; {', '.join(bad) or 'residuals ok'}): "
                          f"check the IMU and camera timestamps, the noise σ and the intrinsics")
+    gyro_biases = np.array([o[ids[f"gyro_bias[{s}]"]].vec for s in range(n_seg)])
+    accel_biases = np.array([o[ids[f"accel_bias[{s}]"]].vec for s in range(n_seg)])
     return CameraImuCalibration(
         o, ids, t0, dt, o[ids["imu_from_cam"]], d,
-        o[ids["gyro_bias"]].vec, o[ids["accel_bias"]].vec,
+        gyro_biases.mean(axis=0), accel_biases.mean(axis=0),
         gravity_magnitude * np.asarray(o[ids["gravity"]].ambient), summary,
-        {"time_offset": d0, "imu_from_cam": imu_from_cam0})
+        {"time_offset": d0, "imu_from_cam": imu_from_cam0}, bias_times, gyro_biases, accel_biases)
+
+
+def _bias_step(b0: Rn, b1: Rn) -> np.ndarray:
+    """The change of a bias from one segment to the next (the random-walk term)."""
+    return b1.vec - b0.vec
 
 
 def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_rate: float = 20.0,
@@ -311,12 +359,16 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                         imu_from_cam: SE3 | None = None, pixel_sigma: float = 0.3,
                         gyro_sigma: float = 0.005, accel_sigma: float = 0.05,
                         gyro_bias: Any = (0.01, -0.02, 0.015), accel_bias: Any = (0.1, -0.05, 0.08),
-                        knot_spacing: float = 0.05) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
+                        knot_spacing: float = 0.05, gyro_random_walk: float = 0.0,
+                        accel_random_walk: float = 0.0) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
     """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
     true trajectory is a spline of smooth random control points (a rig swinging
     ±0.3 m and ±25° about a pose 0.8 m in front of the target), sampled by the IMU
     (with its biases and white noise) and seen by a pinhole camera at its own clock
-    (IMU time = camera time + ``time_offset``). Returns (data, truth, intrinsics); the
+    (IMU time = camera time + ``time_offset``); with ``gyro_random_walk`` /
+    ``accel_random_walk`` (densities) the biases drift from the given values as Wiener
+    processes (truth: ``*_bias_track`` per IMU sample, ``*_bias`` their means).
+    Returns (data, truth, intrinsics); the
     truth holds the camera's pose at every frame (``world_from_cam``; the target's 42
     corners are those of ``chessboard:7x6:0.06`` shifted by (−0.18, −0.15, 0)), so
     that images can be rendered (:mod:`boxplus.synthetic.images`)."""
@@ -350,14 +402,18 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         i, u = _segment(t, t0, dt, n)
         return _core.spline_evaluate(knots_a[i:i + 4], u, dt)
 
-    bg, ba = np.asarray(gyro_bias, float), np.asarray(accel_bias, float)
     imu_t = np.arange(0.0, duration, 1.0 / imu_rate)
+    # biases: the given values, drifting as Wiener processes of the given densities
+    steps = np.sqrt(1.0 / imu_rate) * rng.standard_normal((2, len(imu_t), 3))
+    steps[:, 0] = 0.0
+    bg = np.asarray(gyro_bias, float) + gyro_random_walk * np.cumsum(steps[0], axis=0)
+    ba = np.asarray(accel_bias, float) + accel_random_walk * np.cumsum(steps[1], axis=0)
     gyro, accel = [], []
-    for t in imu_t:
+    for k, t in enumerate(imu_t):
         p, q, v, a, w = state(t)
         R = SO3(q).R
-        gyro.append(w + bg + rng.normal(0, gyro_sigma, 3))
-        accel.append(R.T @ (a - 9.81 * g_dir) + ba + rng.normal(0, accel_sigma, 3))
+        gyro.append(w + bg[k] + rng.normal(0, gyro_sigma, 3))
+        accel.append(R.T @ (a - 9.81 * g_dir) + ba[k] + rng.normal(0, accel_sigma, 3))
     frame_t = np.arange(0.2, duration - 0.2, 1.0 / camera_rate)
     corners, cam_poses = [], []
     for tc in frame_t:
@@ -369,7 +425,8 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         ok = (pc[:, 2] > 0) & np.all((uv >= 0) & (uv < [640, 480]), axis=1)
         corners.append((uv[ok] + rng.normal(0, pixel_sigma, (ok.sum(), 2)), target[ok])
                        if ok.sum() >= 8 else None)
-    truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg, "accel_bias": ba,
+    truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg.mean(axis=0),
+             "accel_bias": ba.mean(axis=0), "gyro_bias_track": bg, "accel_bias_track": ba,
              "gravity": 9.81 * g_dir, "world_from_cam": cam_poses}
     data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel))
     return data, truth, K

@@ -52,6 +52,14 @@ def _parser() -> argparse.ArgumentParser:
                     help="σ of one gyroscope sample (rad/s)")
     ap.add_argument("--accel-sigma", type=float, default=None,
                     help="σ of one accelerometer sample (m/s²)")
+    ap.add_argument("--gyro-random-walk", type=float, default=None,
+                    help="the gyroscope bias' random walk (rad/s²/√Hz; imu.yaml gives it)")
+    ap.add_argument("--accel-random-walk", type=float, default=None,
+                    help="the accelerometer bias' random walk (m/s³/√Hz; imu.yaml gives it)")
+    ap.add_argument("--bias-spacing", type=float, default=0.1,
+                    help="seconds per bias segment when the biases drift (default 0.1)")
+    ap.add_argument("--constant-biases", action="store_true",
+                    help="hold the biases constant over the recording (ignore the random walks)")
     ap.add_argument("--pixel-sigma", type=float, default=0.5, help="corner σ in px (default 0.5)")
     ap.add_argument("--knot-spacing", type=float, default=0.05,
                     help="the trajectory spline's knot spacing in s (default 0.05)")
@@ -99,7 +107,8 @@ def _target(spec: str) -> Any:
         raise _fail(f"--target: {e}") from None
 
 
-def _noise(args: Any) -> tuple[float, float]:
+def _noise(args: Any) -> tuple[float, float, float | None, float | None]:
+    """(gyro σ, accel σ per sample, gyro and accel random walks or None)."""
     from boxplus.calib.recordings import read_kalibr_imu
 
     if args.imu:
@@ -107,13 +116,23 @@ def _noise(args: Any) -> tuple[float, float]:
             imu = read_kalibr_imu(args.imu)
         except (OSError, ValueError) as e:
             raise _fail(f"--imu: {e}") from None
-        return imu.gyro_sigma, imu.accel_sigma
-    if args.gyro_sigma is None or args.accel_sigma is None:
-        raise _fail("give the IMU's noise: --imu imu.yaml, or --gyro-sigma and --accel-sigma")
-    for name, v in (("--gyro-sigma", args.gyro_sigma), ("--accel-sigma", args.accel_sigma)):
-        if not (np.isfinite(v) and v > 0):
+        gs, acs = imu.gyro_sigma, imu.accel_sigma
+        gw: float | None = imu.gyro_random_walk
+        aw: float | None = imu.accel_random_walk
+    else:
+        if args.gyro_sigma is None or args.accel_sigma is None:
+            raise _fail("give the IMU's noise: --imu imu.yaml, or --gyro-sigma and --accel-sigma")
+        gs, acs, gw, aw = (args.gyro_sigma, args.accel_sigma, args.gyro_random_walk,
+                           args.accel_random_walk)
+    for name, v in (("--gyro-sigma", gs), ("--accel-sigma", acs), ("--gyro-random-walk", gw),
+                    ("--accel-random-walk", aw)):
+        if v is not None and not (np.isfinite(v) and v > 0):
             raise _fail(f"{name} must be positive, got {v}")
-    return args.gyro_sigma, args.accel_sigma
+    if (gw is None) != (aw is None):
+        raise _fail("give both random walks (--gyro-random-walk and --accel-random-walk) or neither")
+    if args.constant_biases:
+        gw = aw = None
+    return gs, acs, gw, aw
 
 
 def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: float) -> str:
@@ -139,6 +158,11 @@ def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: fl
         + "  ± " + " ".join(f"{v:.5f}" for v in cal.std("gyro_bias")),
         "accelerometer bias (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.accel_bias)
         + "  ± " + " ".join(f"{v:.4f}" for v in cal.std("accel_bias")),
+        (f"biases: {len(cal.gyro_biases)} segments of {np.diff(cal.bias_times).mean():.3g} s "
+         f"(random walk); the values above are their means, the first segment's σ; drift "
+         f"over the recording: gyroscope {np.ptp(cal.gyro_biases, axis=0).max():.2g} rad/s, "
+         f"accelerometer {np.ptp(cal.accel_biases, axis=0).max():.2g} m/s²"
+         if len(cal.gyro_biases) > 1 else "biases: constant over the recording"),
         "gravity in the target frame (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.gravity),
     ]
     return "\n".join(lines)
@@ -152,7 +176,7 @@ def main(argv: list[str] | None = None) -> int:
 
     camera = _camera(args)
     target = _target(args.target)
-    gyro_sigma, accel_sigma = _noise(args)
+    gyro_sigma, accel_sigma, gyro_walk, accel_walk = _noise(args)
     try:
         recording = read_euroc(args.folder, args.cam, args.imu_folder)
     except (OSError, ValueError) as e:
@@ -171,7 +195,9 @@ def main(argv: list[str] | None = None) -> int:
         data = detect_recording(recording, target, progress)
         cal = calibrate_camera_imu(data, camera.intrinsics, camera.model, pixel_sigma=args.pixel_sigma,
                                    gyro_sigma=gyro_sigma, accel_sigma=accel_sigma,
-                                   knot_spacing=args.knot_spacing, max_offset=args.max_offset)
+                                   knot_spacing=args.knot_spacing, max_offset=args.max_offset,
+                                   gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
+                                   bias_spacing=args.bias_spacing)
     except ValueError as e:
         raise _fail(str(e), code=1) from None
     except KeyboardInterrupt:
