@@ -10,13 +10,13 @@ mean ± standard deviation over the folds of each fold's mean error.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
 
 from boxplus._plain import fields_todict
+from boxplus.parallel import map_values
 
 __all__ = ["CrossValidation", "cross_validate", "kfold"]
 
@@ -97,7 +97,7 @@ def cross_validate(
     scale: float = 1000.0,
     unit: str = "mm",
     folds: Sequence[tuple[Split, Split]] | None = None,
-    executor: Executor | None = None,
+    executor: Any = None,
 ) -> CrossValidation:
     """Trains every method on every fold and scores it on the held-out items.
 
@@ -113,8 +113,10 @@ def cross_validate(
         Folds given by the user (each maps a kind to item indices); replaces
         ``sizes``/``k``/``seed``.
     scale, unit : errors are multiplied by ``scale`` and reported in ``unit``
-    executor : concurrent.futures.Executor, optional
-        Runs the (method, fold) fits in parallel; the results are collected in
+    executor : concurrent.futures.Executor, dask Client or pool, optional
+        Runs the (method, fold) fits in parallel through
+        :func:`boxplus.parallel.map_values` (a fit that raises ends the call with
+        :class:`boxplus.parallel.TaskError` and its traceback); the results are collected in
         order, so the table is the same as the serial one, bit for bit, when the
         methods are deterministic. A process pool needs picklable ``methods``
         and ``validate`` (module-level functions or ``functools.partial``).
@@ -137,8 +139,8 @@ def cross_validate(
     if executor is None:
         errs = [_fold_error(methods[n], validate, tr, va, scale) for n, tr, va in jobs]
     else:
-        futures = [executor.submit(_fold_error, methods[n], validate, tr, va, scale) for n, tr, va in jobs]
-        errs = [f.result() for f in futures]
+        errs = map_values(_fold_error, [(methods[n], validate, tr, va, scale) for n, tr, va in jobs],
+                          executor, "cross_validate")
     cv = CrossValidation(unit=unit)
     for i, name in enumerate(methods):
         per_fold = errs[i * len(splits):(i + 1) * len(splits)]

@@ -39,7 +39,7 @@ import numpy as np
 from boxplus import blas_threads, solver
 from boxplus._plain import fields_todict, plain
 
-__all__ = ["RayExecutor", "TaskResult", "map_tasks", "solve_many"]
+__all__ = ["RayExecutor", "TaskError", "TaskResult", "map_tasks", "map_values", "solve_many"]
 
 
 @dataclass
@@ -190,6 +190,24 @@ def _solve_task(problem: Any, builder: Callable | None, item: Any, rng_key: Any,
         summary = problem.solve(options, **overrides)
         value = problem if extract is None else extract(problem, summary)
     return TaskResult(0, value=value, summary=summary)
+
+
+class TaskError(RuntimeError):
+    """A task of :func:`map_values` failed; the message holds its traceback (the task's own
+    exception, raised on the worker) or the worker failure."""
+
+
+def map_values(fn: Callable, tasks: Sequence[tuple], executor: Any, what: str,
+               retries: int = 2) -> list[Any]:
+    """``[fn(*task) for task in tasks]`` on ``executor`` (:func:`map_tasks`: any executor
+    kind, worker failures retried), raising :class:`TaskError` for the first task that
+    failed, with ``what`` and the task's index and traceback in the message. The one
+    fan-out of boxplus' own parallel loops (restarts, cross-validation folds)."""
+    results = map_tasks(fn, tasks, executor=executor, retries=retries)
+    for r in results:
+        if not r.ok:
+            raise TaskError(f"{what}: task {r.index} failed:\n{r.error}")
+    return [r.value for r in results]
 
 
 def solve_many(

@@ -12,7 +12,6 @@ bit for bit, as the serial loop.
 
 from __future__ import annotations
 
-from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -21,6 +20,7 @@ import numpy as np
 from boxplus._core import SolveSummary
 from boxplus._plain import fields_todict
 from boxplus.manifolds import S2, SE3, SO3, Rn, _CompoundBase
+from boxplus.parallel import map_values
 from boxplus.problem import EvaluationError, OptimizationProblem
 
 __all__ = ["RestartResult", "default_perturbation", "solve_with_restarts"]
@@ -109,7 +109,7 @@ def solve_with_restarts(
     restarts: int,
     seed: int | None = 0,
     perturbation: Callable[[Any], np.ndarray] | None = None,
-    executor: Executor | None = None,
+    executor: Any = None,
     factory: Callable[[], OptimizationProblem] | None = None,
     **solve_kw: Any,
 ) -> RestartResult:
@@ -126,10 +126,12 @@ def solve_with_restarts(
     perturbation : callable, optional
         ``perturbation(value) -> (dof,) standard deviations`` per variable
         (default :func:`default_perturbation`).
-    executor : concurrent.futures.Executor, optional
-        Runs the restarts in parallel (threads: the C++ solve releases the GIL;
-        processes: ``factory`` and ``perturbation`` must be picklable). Needs
-        ``factory``.
+    executor : concurrent.futures.Executor, dask Client or pool, optional
+        Runs the restarts in parallel through :func:`boxplus.parallel.map_values`
+        (threads: the C++ solve releases the GIL; processes, Dask, Ray:
+        ``factory`` and ``perturbation`` must be picklable; a worker that dies
+        is retried). Needs ``factory``. A restart whose code raises ends the call
+        with :class:`boxplus.parallel.TaskError` and its traceback.
     factory : callable, optional
         ``factory() -> OptimizationProblem``: a fresh problem with the same
         variables (same ids) and measurements as ``problem``; each restart is
@@ -161,8 +163,8 @@ def solve_with_restarts(
     starts = [_perturbed(x0, free, scale, seed, k) for k in range(restarts)]
     if factory is not None:
         if executor is not None:
-            futures = [executor.submit(_restart_fresh, factory, st, solve_kw) for st in starts]
-            outcomes = [f.result() for f in futures]
+            outcomes = map_values(_restart_fresh, [(factory, st, solve_kw) for st in starts],
+                                  executor, "solve_with_restarts")
         else:
             outcomes = [_restart_fresh(factory, st, solve_kw) for st in starts]
     else:

@@ -159,3 +159,40 @@ def test_ray_and_dask_are_not_imported_by_boxplus():
     code = "import sys, boxplus; print(sorted(m for m in ('ray', 'dask', 'distributed') if m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def _cv_fit(split):
+    if len(split["items"]) < 4:
+        raise ValueError("too few items to fit (a user's own error)")
+    return float(np.mean(split["items"]))
+
+
+def _cv_validate(model, split):
+    return np.abs(np.asarray(split["items"], float) - model)
+
+
+def test_restarts_and_folds_fan_out_through_one_executor_path():
+    # solve_with_restarts and cross_validate run their tasks through parallel.map_values:
+    # the same answer as serially, and a task's own error comes back with its traceback
+    from boxplus.crossval import cross_validate
+    from boxplus.parallel import TaskError
+    from boxplus.restarts import solve_with_restarts
+
+    def problem():
+        o = bp.OptimizationProblem()
+        x = o.add_random_var(bp.Rn([0.3]), name="x")
+        o.add_measurement(np.array([2.0]), lambda x: x.vec ** 2, [x], sigma=0.1)
+        return o
+
+    serial = solve_with_restarts(problem(), 4, seed=3, factory=problem)
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        threaded = solve_with_restarts(problem(), 4, seed=3, factory=problem, executor=pool)
+        folds = [({"items": list(range(k, k + 6))}, {"items": [k + 7]}) for k in range(3)]
+        a = cross_validate({"mean": _cv_fit}, _cv_validate, folds=folds, executor=pool)
+        b = cross_validate({"mean": _cv_fit}, _cv_validate, folds=folds)
+        assert a.fold_errors == b.fold_errors
+        bad = folds + [({"items": [1, 2]}, {"items": [3]})]
+        with pytest.raises(TaskError, match=r"(?s)cross_validate: task 3 failed:.*_cv_fit.*"
+                                            r"ValueError: too few items to fit"):
+            cross_validate({"mean": _cv_fit}, _cv_validate, folds=bad, executor=pool)
+    assert threaded.costs == serial.costs
