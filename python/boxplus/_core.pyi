@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_reprojection_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_reprojection_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1635,6 +1635,10 @@ def board_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsInd
 def cached_factor(problem: Problem, cache: ResidualCache, ids: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], noise: NoiseModel, what: str = 'measurement') -> Factor:
     """
     The next measurement of a ResidualCache group, on variables ids, whitened by noise.
+    """
+def camera_model_names() -> list[str]:
+    """
+    The camera models every camera term takes (camera/models.h), in C++'s order.
     """
 def camera_model_size(model: str) -> int:
     """

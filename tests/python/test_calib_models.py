@@ -198,3 +198,15 @@ def test_unknown_model_and_wrong_size_raise():
     with pytest.raises(ValueError, match="unknown camera model 'equi'"):
         add_board(o, np.zeros((1, 2)), cam, a, b, np.zeros((1, 3)) + [0, 0, 1], model="equi")
     assert set(NEW) <= set(CAMERA_LABELS)
+
+
+def test_one_list_of_camera_models_in_both_languages():
+    # the C++ camera terms (camera/models.h) and the numpy twins know the same models, with
+    # the same number of intrinsics each
+    from boxplus import _core
+    from boxplus.calib.models import CAMERA_LABELS
+
+    names = _core.camera_model_names()
+    assert sorted(names) == sorted(CAMERA_LABELS) and len(names) == 8
+    for name in names:
+        assert _core.camera_model_size(name) == len(CAMERA_LABELS[name])

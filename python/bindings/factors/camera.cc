@@ -6,6 +6,10 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <iterator>
+#include <string>
+#include <vector>
+
 #include "../bindings.h"
 #include "../factor.h"
 #include "boxplus/factors/camera/board.h"
@@ -18,6 +22,13 @@ namespace boxplus::python {
 void RegisterCameraFactors(py::module_& m) {
   m.def("camera_model_size", &CameraModelSize, py::arg("model"),
         "Number of intrinsic parameters of a camera model.");
+  m.def(
+      "camera_model_names",
+      [] {
+        return std::vector<std::string>(std::begin(camera::kCameraModelNames),
+                                        std::end(camera::kCameraModelNames));
+      },
+      "The camera models every camera term takes (camera/models.h), in C++'s order.");
   m.def(
       "point_projection_factor",
       [](const std::string& model, int intrinsics, int world_from_rig, int cam_from_rig,

@@ -21,7 +21,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from boxplus import geometry
+from boxplus import _core, geometry
 
 __all__ = ["CAMERA_LABELS", "OPENCV_DISTORTION", "camera_matrix", "initial_intrinsics",
            "intrinsics_vector", "is_fisheye", "model_labels", "project", "rays"]
@@ -32,6 +32,12 @@ CAMERA_LABELS: dict[str, list[str]] = {
     "kannala_brandt": ["fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"],
     "double_sphere": ["fx", "fy", "cx", "cy", "xi", "alpha"],
 }
+
+# One list of models, C++'s (camera/models.h): a model added there and not here fails
+# at import, not in a user's calibration.
+if sorted(CAMERA_LABELS) != sorted(_core.camera_model_names()):
+    raise ImportError(f"boxplus.calib.models: labels for {sorted(CAMERA_LABELS)}, the C++ camera "
+                      f"terms have {sorted(_core.camera_model_names())}")
 
 # The distortion vector of each model in OpenCV's order (cv2.calibrateCamera's
 # for the pinhole family, cv2.fisheye's for kannala_brandt); double_sphere has

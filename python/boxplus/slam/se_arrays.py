@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from boxplus.batch import matrix_to_quat, quat_to_matrix
+
 __all__ = [
     "between",
     "compose",
@@ -71,40 +73,15 @@ def quat_from_rotation_vector(omega: np.ndarray) -> np.ndarray:
 
 
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) rotation matrices of unit quaternions (x y z w): columns R(q) eₖ."""
-    cols = [quat_rotate(q, np.tile(e, (len(q), 1))) for e in np.eye(3)]
-    return np.stack(cols, axis=2)
+    """(N, 3, 3) rotation matrices of unit quaternions (x y z w)
+    (:func:`boxplus.batch.quat_to_matrix`, the one conversion)."""
+    return quat_to_matrix(np.asarray(q, float).reshape(-1, 4))
 
 
 def quat_from_matrix(R: np.ndarray) -> np.ndarray:
-    """Unit quaternions (x y z w, w ≥ 0) of (N, 3, 3) rotation matrices.
-
-    Shepperd's method: each row uses the largest of 1 + tr R, 1 + 2Rᵢᵢ − tr R so
-    that no division by a small number occurs.
-    """
-    R = np.asarray(R, float)
-    tr = R[:, 0, 0] + R[:, 1, 1] + R[:, 2, 2]
-    cand = np.stack([1 + tr, 1 + 2 * R[:, 0, 0] - tr, 1 + 2 * R[:, 1, 1] - tr,
-                     1 + 2 * R[:, 2, 2] - tr], axis=1)
-    k = np.argmax(cand, axis=1)
-    c = cand[np.arange(len(R)), k]
-    # Row k of 4 q q_k: its entries are linear in R, the k-th is c; normalised below.
-    q = np.empty((len(R), 4))
-    r = R
-    # k = 0: w largest.
-    m = k == 0
-    q[m] = np.stack([r[m, 2, 1] - r[m, 1, 2], r[m, 0, 2] - r[m, 2, 0],
-                     r[m, 1, 0] - r[m, 0, 1], c[m]], 1)
-    m = k == 1
-    q[m] = np.stack([c[m], r[m, 0, 1] + r[m, 1, 0], r[m, 0, 2] + r[m, 2, 0],
-                     r[m, 2, 1] - r[m, 1, 2]], 1)
-    m = k == 2
-    q[m] = np.stack([r[m, 0, 1] + r[m, 1, 0], c[m], r[m, 1, 2] + r[m, 2, 1],
-                     r[m, 0, 2] - r[m, 2, 0]], 1)
-    m = k == 3
-    q[m] = np.stack([r[m, 0, 2] + r[m, 2, 0], r[m, 1, 2] + r[m, 2, 1], c[m],
-                     r[m, 1, 0] - r[m, 0, 1]], 1)
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    """Unit quaternions (x y z w, w ≥ 0) of (N, 3, 3) rotation matrices
+    (:func:`boxplus.batch.matrix_to_quat`, Shepperd's method, with the sign fixed)."""
+    q = matrix_to_quat(R)
     return np.where(q[:, 3:] < 0, -q, q)
 
 
