@@ -17,8 +17,10 @@ re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand�
 gravity (scale, bias, misalignment and imu_from_cam), camera–IMU calibration in
 motion (imu_from_cam, time offset, biases), and generated pose graphs
 (2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed), and
-the 3-camera rig of examples/calib_rig.py (partial overlap). The joint rig
-(Le & Ng) is not in it yet.
+the 3-camera rig of examples/calib_rig.py (partial overlap), and the joint rig
+of Le & Ng (an arm and a stereo pair, docs/tutorials/joint_rig.py: every DH entry,
+both cameras, the pair and its pose; the DH prior is the spread the truth is drawn
+from, so the posterior σ is the right yardstick).
 
 Run: .venv/bin/python bench/bench_sigma_coverage.py [--captures 100] [--family NAME]
 """
@@ -186,6 +188,53 @@ def camera_imu_family() -> Trial:
     return trial
 
 
+def joint_rig_family() -> Trial:
+    """Le & Ng's arm and stereo pair (boxplus.joint.synthetic.make_rig: a new table,
+    views and noise per capture), fitted by full maximum likelihood (the arm's corners
+    reprojected into both images, encoder errors, the DH prior the truth is drawn with)."""
+    from boxplus.joint import DHArm, JointRig, Stereo, horn
+    from boxplus.joint.geometry import dh_pose, triangulate
+    from boxplus.joint.synthetic import make_rig
+
+    def trial(rng):
+        data = make_rig(int(rng.integers(1 << 30)))
+        rig = JointRig(root="arm")
+        for cam in ("cam1", "cam2"):
+            rig.add_camera(cam, data.k_nominal, data.model)
+        rig.add_system(DHArm("arm", data.dh_nominal, data.convention, unknown="all",
+                             prior_sigma=(0.003, np.radians(1.0)), encoder_sigma=data.sigma_encoder,
+                             mount=data.end_from_board))
+        drawing = data.cam2_from_cam1 * bp.SE3(bp.SO3.exp(np.radians([0.5, -0.5, 0.3])),
+                                               [0.003, -0.002, 0.002])
+        rig.add_system(Stereo("stereo", "cam1", "cam2", drawing), pose=bp.SE3())
+        k1, k2 = rig.value("cam1").vec, rig.value("cam2").vec
+        seen, predicted = [], []
+        for b in data.boards:
+            seen.append(triangulate(data.model, k1, data.model, k2, drawing, b.z1, b.z2, iterations=0))
+            T = dh_pose(data.dh_nominal, b.joints, data.convention, None, data.end_from_board)
+            predicted.append(data.board @ T.R.T + T.pos)
+        rig.problem.set_value(rig.ids["pose:stereo"], horn(np.vstack(seen), np.vstack(predicted)))
+        for v, b in enumerate(data.boards):
+            for camera, z in ((0, b.z1), (1, b.z2)):
+                rig.project_targets("arm", b.joints, data.board, "stereo", z, camera=camera,
+                                    reading=v, sigma=data.sigma_px)
+        rig.solve()
+        o = rig.problem
+        dh_err = (rig.table("arm") - data.dh_true).ravel()
+        names = [f"arm.{n}" for n in rig.dh_values("arm")]
+        parts = [(dh_err, o.std(rig.ids["arm.dh"])),
+                 _error(o, rig.ids["cam1"], bp.Rn(data.k1_true)),
+                 _error(o, rig.ids["cam2"], bp.Rn(data.k2_true)),
+                 _error(o, rig.ids["stereo.cam2_from_cam1"], data.cam2_from_cam1),
+                 _error(o, rig.ids["pose:stereo"], data.arm_from_cam1)]
+        pose_labels = codec_of(bp.SE3()).labels()
+        names += ([f"cam1.{n}" for n in ("f", "cx", "cy", "k1")] + [f"cam2.{n}" for n in ("f", "cx", "cy", "k1")]
+                  + [f"cam2_from_cam1.{n}" for n in pose_labels] + [f"pose:stereo.{n}" for n in pose_labels])
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
 def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
     """Generated graphs (a new trajectory and noise per capture, vertex 0 fixed): the
     poses at a third, two thirds and the end of the trajectory."""
@@ -219,6 +268,7 @@ FAMILIES: dict[str, Callable[[], Trial]] = {
     **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
     "stereo[opencv5]": stereo_family,
     "rig[3 cameras, radial2]": rig_family,
+    "joint rig (arm + stereo)": joint_rig_family,
     "hand-eye": hand_eye_family,
     "accelerometer+gravity": gravity_family,
     "camera-IMU in motion": camera_imu_family,

@@ -117,7 +117,7 @@ def test_report_names_free_directions_with_fewer_rows_than_columns():
 
 
 @pytest.mark.parametrize("family", ["camera[opencv5]", "camera[kannala_brandt]", "hand-eye",
-                                    "accelerometer+gravity"])
+                                    "accelerometer+gravity", "joint rig (arm + stereo)"])
 def test_sigma_matches_the_spread_over_recaptures(family):
     # The benchmark's Monte-Carlo (bench/bench_sigma_coverage.py) on 40 captures: the
     # spread of (estimate ⊟ truth) / σ is 1 within sampling error (±11 % at 40 captures)
