@@ -139,6 +139,9 @@ The public, friendlier front is boxplus.OptimizationProblem.
           },
           py::arg("manifold"), py::arg("init"), py::arg("name") = "")
       .def_property_readonly("num_variables", &Problem::num_variables)
+      .def_property_readonly("generation", &Problem::generation,
+                             "Changes whenever values, fixed flags, variables or measurements "
+                             "change (a cache key for results of the current state).")
       .def_property_readonly("num_measurements", &Problem::num_measurements)
       .def(
           "value",

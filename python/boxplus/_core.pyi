@@ -1240,6 +1240,11 @@ class Problem:
     def variable_name(self, id: typing.SupportsInt | typing.SupportsIndex) -> str:
         ...
     @property
+    def generation(self) -> int:
+        """
+        Changes whenever values, fixed flags, variables or measurements change (a cache key for results of the current state).
+        """
+    @property
     def num_measurements(self) -> int:
         ...
     @property

@@ -4,7 +4,7 @@ detection on rendered images, and the plots (optional ax, a Figure back)."""
 
 import numpy as np
 import pytest
-from boxplus import SE3, SO3
+from boxplus import SE3, SO3, Rn
 from boxplus.calib import calibrate_mono, calibrate_rig
 from boxplus.calib.models import project
 from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
@@ -217,3 +217,19 @@ def test_a_model_that_folds_over_inside_the_calibrated_field_is_named():
     cal.problem.set_value(cal.ids["camera"], bp.Rn(folding))
     with pytest.warns(LensFoldWarning, match=r"camera: the fitted opencv5 model folds over at "):
         assert len(check_fold_over(cal)) == 1
+
+
+def test_the_report_is_computed_once_per_state_of_the_problem():
+    # projection_uncertainty of every camera and the printed report share one report
+    # (one normal matrix, one rank test) until the problem changes
+    rng = np.random.default_rng(31)
+    cal = calibrate_rig(_simulate_rig(rng, n_views=8), (640, 480), sigma=0.3)
+    first = cal.report(rescale=True)
+    assert cal.report(rescale=True) is first
+    assert cal.report() is not first and cal.report() is cal.report()
+    projection_uncertainty(cal, "cam1", 0.6, grid=(4, 3), rescale=True)
+    assert cal.report(rescale=True) is first
+    cal.problem.set_value(cal.ids["cam1"], Rn(cal.problem[cal.ids["cam1"]].vec * 1.001))
+    again = cal.report(rescale=True)
+    assert again is not first
+    assert not np.allclose(again.std("cam1"), first.std("cam1"), rtol=0, atol=0)

@@ -90,6 +90,9 @@ class Problem {
   int AddVariable(std::shared_ptr<const ceres::Manifold> manifold, const double* init,
                   const std::string& name = "");
   int num_variables() const { return static_cast<int>(vars_.size()); }
+  // Changes whenever values, fixed flags, variables or measurements change: a result
+  // computed at one generation (a covariance, a report) is still valid while it holds.
+  long long generation() const { return generation_; }
   const std::string& variable_name(int id) const;
   const ceres::Manifold& manifold(int id) const;
   const double* value(int id) const;

@@ -142,6 +142,8 @@ class Calibration:
     skipped: list[SkippedView] = field(default_factory=list)
     intrinsics_shift: list[Any] = field(default_factory=list)
     observations: list[_Obs] = field(default_factory=list, repr=False)
+    # reports by (rescale, problem generation): computed once per state (report())
+    _reports: dict[tuple[bool, int], Any] = field(default_factory=dict, repr=False, compare=False)
 
     def camera(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """(K, distortion in OpenCV's order for the camera's model) of a camera."""
@@ -179,10 +181,18 @@ class Calibration:
     @_one_blas_thread
     def report(self, rescale: bool = False):
         """The :func:`boxplus.calib.report` of the solved problem; σ from the given
-        corner noise unless ``rescale`` (the printed report shows both)."""
+        corner noise unless ``rescale`` (the printed report shows both). Computed once
+        per state of the problem (one normal matrix and rank test for every camera's
+        projection uncertainty and the printed report), again after any change."""
         from boxplus.calib.report import report
 
-        return report(self.problem, rescale=rescale)
+        generation = self.problem._core.generation
+        for old in [k for k in self._reports if k[1] != generation]:
+            del self._reports[old]
+        key = (bool(rescale), generation)
+        if key not in self._reports:
+            self._reports[key] = report(self.problem, rescale=rescale)
+        return self._reports[key]
 
     def cameras(self) -> list[Camera]:
         """The rig as :class:`boxplus.calib.io.Camera` values (reference first), for the
