@@ -560,6 +560,7 @@ class OptimizationProblem:
         options: _core.SolverOptions | None = None,
         callback: Callable[[_core.IterationInfo], Any] | None = None,
         verbose: bool = False,
+        check_determined: bool = True,
         **overrides: Any,
     ) -> _core.SolveSummary:
         """Minimises ½ Σ ρ(‖rᵢ‖²) and writes the estimates back (``self.X``).
@@ -577,6 +578,11 @@ class OptimizationProblem:
             Print (with Python's ``print``, so ``contextlib.redirect_stdout`` and
             notebooks capture it) one line per iteration in the C++ progress
             format (χ² = 2 × cost, see ``_core.format_progress``) and a summary.
+        check_determined : bool
+            After the solve, run the rank test (:meth:`check_determined`, about one
+            factorisation) and warn with :class:`UndeterminedWarning` naming what the
+            data leave free. False skips it: for loops that solve one problem many
+            times (restarts, staged solves), where one check suffices.
 
         Returns
         -------
@@ -591,7 +597,7 @@ class OptimizationProblem:
 
         summary = solver.run(self._core, options, callback, verbose, **overrides)
         log_summary(summary, "solve")
-        if summary.usable and summary.termination != "interrupted":
+        if check_determined and summary.usable and summary.termination != "interrupted":
             free = self.describe_undetermined()
             if free:
                 warnings.warn(UndeterminedWarning(

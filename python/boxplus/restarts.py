@@ -92,7 +92,8 @@ def _restart(problem: OptimizationProblem, start: dict[int, Any],
     for v, x in start.items():
         problem.set_value(v, x)
     try:
-        r = problem.solve(**solve_kw)
+        # the first solve checked what the data determine; a restart changes only values
+        r = problem.solve(**{**solve_kw, "check_determined": False})
         cost = problem.cost()
     except EvaluationError:  # the perturbation left the model's domain: skip it
         return np.inf, None, None
