@@ -400,11 +400,15 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         return _core.spline_evaluate(knots_a[i:i + 4], u, dt)
 
     imu_t = np.arange(0.0, duration, 1.0 / imu_rate)
-    # biases: the given values, drifting as Wiener processes of the given densities
-    steps = np.sqrt(1.0 / imu_rate) * rng.standard_normal((2, len(imu_t), 3))
-    steps[:, 0] = 0.0
-    bg = np.asarray(gyro_bias, float) + gyro_random_walk * np.cumsum(steps[0], axis=0)
-    ba = np.asarray(accel_bias, float) + accel_random_walk * np.cumsum(steps[1], axis=0)
+    # biases: the given values, drifting as Wiener processes of the given densities (drawn
+    # only then, so that a seed gives the same recording as before drifts existed)
+    bg = np.tile(np.asarray(gyro_bias, float), (len(imu_t), 1))
+    ba = np.tile(np.asarray(accel_bias, float), (len(imu_t), 1))
+    if gyro_random_walk > 0 or accel_random_walk > 0:
+        steps = np.sqrt(1.0 / imu_rate) * rng.standard_normal((2, len(imu_t), 3))
+        steps[:, 0] = 0.0
+        bg += gyro_random_walk * np.cumsum(steps[0], axis=0)
+        ba += accel_random_walk * np.cumsum(steps[1], axis=0)
     gyro, accel = [], []
     for k, t in enumerate(imu_t):
         p, q, v, a, w = state(t)
