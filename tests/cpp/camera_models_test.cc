@@ -115,6 +115,7 @@ TEST(CameraModels, UnprojectInvertsProjectForEveryModel) {
     }
   }
   EXPECT_THROW(camera::CameraModelIndex("fisheye"), Error);
+  EXPECT_THROW(camera::WithCameraModelIndex(8, [](auto m) { return decltype(m)::kSize; }), Error);
 }
 
 }  // namespace

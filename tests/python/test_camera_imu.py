@@ -60,7 +60,7 @@ def test_angular_velocity_is_what_the_gyroscope_term_predicts():
     # the gyroscope term's error is ω_imu(t) + b_g − z, one row per sample the spline covers
     e = cal.problem.errors()["gyroscope"]
     covered = [i for i, t in enumerate(data.imu_times)
-               if cal.t0 <= t < cal.t0 + (cal._n_knots() - 3) * cal.knot_spacing]
+               if cal.t0 <= t < cal.t0 + (cal.n_knots - 3) * cal.knot_spacing]
     assert len(covered) == len(e)
     predicted = np.array([cal.angular_velocity(data.imu_times[i]) for i in covered]) + cal.gyro_bias
     np.testing.assert_allclose(predicted - data.gyro[covered], e, atol=1e-9)

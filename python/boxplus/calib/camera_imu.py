@@ -105,24 +105,29 @@ class CameraImuCalibration:
         names = ("imu_from_cam", "time_offset", "gyro_bias", "accel_bias", "gravity")
         return {**fields_todict(self, skip=("problem", "ids")),
                 "std": {n: self.std(n).tolist() for n in names},
-                "knots": self._n_knots()}
+                "knots": self.n_knots}
+
+    @property
+    def n_knots(self) -> int:
+        """Control points of the trajectory spline (``ids`` "knot0" … ); it covers IMU
+        times t0 … t0 + (n_knots − 3)·knot_spacing."""
+        return sum(1 for n in self.ids if n.startswith("knot"))
+
+    def _state(self, t: float) -> tuple:
+        """(p, q, v, a, ω_body) of the spline at IMU time t (clamped to its segments)."""
+        i, u = _segment(t, self.t0, self.knot_spacing, self.n_knots)
+        k = np.array([self.problem[self.ids[f"knot{i + j}"]].ambient for j in range(4)])
+        return _core.spline_evaluate(k, u, self.knot_spacing)
 
     def pose(self, t: float) -> SE3:
         """world_from_imu at IMU time t."""
-        i, u = _segment(t, self.t0, self.knot_spacing, self._n_knots())
-        k = np.array([self.problem[self.ids[f"knot{i + j}"]].ambient for j in range(4)])
-        p, q, *_ = _core.spline_evaluate(k, u, self.knot_spacing)
+        p, q, *_ = self._state(t)
         return SE3(SO3(q), p)
 
     def angular_velocity(self, t: float) -> np.ndarray:
         """ω_imu at IMU time t (rad/s, IMU frame): what an unbiased, noise-free gyroscope
         would read (the gyroscope term's prediction before its bias)."""
-        i, u = _segment(t, self.t0, self.knot_spacing, self._n_knots())
-        k = np.array([self.problem[self.ids[f"knot{i + j}"]].ambient for j in range(4)])
-        return np.asarray(_core.spline_evaluate(k, u, self.knot_spacing)[4]).ravel()
-
-    def _n_knots(self) -> int:
-        return sum(1 for n in self.ids if n.startswith("knot"))
+        return np.asarray(self._state(t)[4]).ravel()
 
 
 def _segment(t: float, t0: float, dt: float, n_knots: int) -> tuple[int, float]:
@@ -289,9 +294,10 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     if walks is not None and n_seg > 1:
         for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
             sigma = q * np.sqrt(bias_times[1] - bias_times[0])
-            for s in range(n_seg - 1):
-                o.add_measurement(np.zeros(3), _bias_step, [ids[f"{kind}[{s}]"], ids[f"{kind}[{s + 1}]"]],
-                                  sigma=sigma, name=f"{kind} walk {s}")
+            # one vectorised measurement group: a Python call per evaluation, not per pair
+            pairs = np.array([[ids[f"{kind}[{s}]"], ids[f"{kind}[{s + 1}]"]] for s in range(n_seg - 1)])
+            o.add_measurements(np.zeros((n_seg - 1, 3)), _bias_step, pairs, sigma=sigma,
+                               name=f"{kind} walk")
     # gravity: the mean specific force in the world is −|g| ĝ when the motion averages out
     f_world = [nearest(t).rot.R @ R_ic.T @ a for t, a in zip(t_imu, accel)]
     g_dir = -np.mean(f_world, axis=0)
@@ -346,8 +352,9 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
         {"time_offset": d0, "imu_from_cam": imu_from_cam0}, bias_times, gyro_biases, accel_biases)
 
 
-def _bias_step(b0: Rn, b1: Rn) -> np.ndarray:
-    """The change of a bias from one segment to the next (the random-walk term)."""
+def _bias_step(b0: Any, b1: Any) -> np.ndarray:
+    """The changes of biases from one segment to the next (the random-walk terms; batches
+    of Rn, one row per pair)."""
     return b1.vec - b0.vec
 
 

@@ -314,7 +314,7 @@ def plot_camera_imu(cal: Any, data: Any, path: Any = None, seconds: float = 2.0)
     t_all = np.asarray(data.imu_times, float)
     lo = cal.t0 + cal.knot_spacing  # inside the spline, past its first segment
     window = (t_all >= lo) & (t_all < lo + seconds) & \
-        (t_all < cal.t0 + (cal._n_knots() - 4) * cal.knot_spacing)
+        (t_all < cal.t0 + (cal.n_knots - 4) * cal.knot_spacing)
     t = t_all[window]
     fitted = np.array([cal.angular_velocity(ti) for ti in t]).reshape(-1, 3) + cal.gyro_bias
     for j, axis in enumerate("xyz"):

@@ -255,8 +255,11 @@ auto WithCameraModelIndex(int index, F&& f) {
       return f(Rational{});
     case 6:
       return f(KannalaBrandt{});
-    default:
+    case 7:
       return f(DoubleSphere{});
+    default:  // a number no model has: refused, never taken for another model
+      ThrowUnknownCameraModel("number " + std::to_string(index));
+      return f(DoubleSphere{});  // not reached
   }
 }
 
