@@ -147,7 +147,7 @@ sanitize-ci: deps
 # 10⁶ seeded mutations of the g2o files through the loader (and a sample through
 # boxplus-g2o); bad outcomes are kept in tests/data/fuzz_regressions/.
 fuzz: install
-	OPENBLAS_NUM_THREADS=1 $(VPY) -m boxplus.testing.fuzz --cases 1000000 --seed 2 --jobs $(JOBS) \
+	OPENBLAS_NUM_THREADS=1 PYTHONPATH=tests $(VPY) -m harness.fuzz --cases 1000000 --seed 2 --jobs $(JOBS) \
 	    --cli $(VENV)/bin/boxplus-g2o --cli-every 1000
 
 clean:

@@ -63,10 +63,11 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "tests"))  # the g2o oracle (tests/harness)
 
 import slam_peers as sp  # noqa: E402
 from boxplus.slam import generate  # noqa: E402
-from boxplus.testing import g2o_reference as g2o_ref  # noqa: E402
+from harness import g2o_reference as g2o_ref  # noqa: E402
 
 SHARED = Path(os.environ.get("BOXPLUS_SHARED_SLAM", "/work/shared/data/slam"))
 SHARED_FILES = ["tinyGrid3D", "smallGrid3D", "parking-garage", "sphere2500", "torus3D",

@@ -5,7 +5,7 @@ file's; the spanning tree for files without vertices) and the same gauge (the
 first vertex fixed), one thread each, prints side by side: iterations,
 ms/iteration, solve time, the time to reach the best objective any run reaches
 (within 1e-6 relative, from each run's per-iteration trace), final chi2 in both
-conventions (scored by one numpy function, boxplus.testing.g2o_reference), the peak
+conventions (scored by one numpy function, harness.g2o_reference), the peak
 memory of loading and solving (peak RSS above the process's RSS before it
 loaded the file: after the imports for the in-process runs, above the RSS of
 `boxplus-g2o --version` for the command-line one), and the ratio of boxplus'
@@ -44,10 +44,12 @@ import time
 from pathlib import Path
 
 import numpy as np
-from boxplus.testing import g2o_reference as g2o_ref
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "tests"))  # the g2o oracle (tests/harness)
+
+from harness import g2o_reference as g2o_ref  # noqa: E402
 
 DEFAULT_DATA = Path("/work/shared/data/slam")
 FILES = ["tinyGrid3D", "smallGrid3D", "parking-garage", "sphere2500", "torus3D",

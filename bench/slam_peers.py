@@ -1,7 +1,7 @@
 """Runs the peers of the SLAM benchmark (GTSAM, g2o) on one g2o file.
 
 Each function starts from the given initial poses (rows aligned with
-``data['ids']`` of ``boxplus.testing.g2o_reference.read_g2o_arrays``), fixes the same gauge
+``data['ids']`` of ``harness.g2o_reference.read_g2o_arrays``), fixes the same gauge
 (the first vertex) and returns the final poses in the same layout, the
 iteration count, the solve time and a trace of (time, objective) per iteration
 in the peer's own objective; ``setup_s`` is the time the peer spent building

@@ -212,7 +212,7 @@ TEST(LandmarkFactors, ZeroAtTheTruth) {
 }
 
 // Reference optima from the peers (g2opy 2.3.0 and GTSAM 4.3.0 from the
-// file's estimate, scored by boxplus.testing.g2o_reference in numpy).
+// file's estimate, scored by harness.g2o_reference in numpy).
 TEST(PoseGraph, TinyGrid3DReachesThePeersOptimum) {
   for (auto [conv, best] : {std::pair{PoseErrorConvention::kG2o, 6.727881617021661},
                             std::pair{PoseErrorConvention::kLog, 18.62781886709005}}) {

@@ -17,7 +17,7 @@ import boxplus as bp
 import pytest
 from boxplus import slam
 from boxplus.slam.generate import generate
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 SHARED = Path(__file__).resolve().parents[3] / "shared" / "data" / "slam"

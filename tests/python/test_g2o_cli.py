@@ -9,7 +9,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 GRID = DATA / "tinyGrid3D.g2o"

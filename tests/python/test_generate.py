@@ -13,7 +13,7 @@ from boxplus.slam.generate import (
     main,
 )
 from boxplus.slam.trajectories import FAMILIES
-from boxplus.testing.g2o_reference import edge_errors, read_g2o_arrays
+from harness.g2o_reference import edge_errors, read_g2o_arrays
 
 CASES = [(family, dim) for family in FAMILIES for dim in (2, 3)]
 

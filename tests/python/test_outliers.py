@@ -14,7 +14,7 @@ import pytest
 from boxplus.slam import generate as gen
 from boxplus.slam import se_arrays as se
 from boxplus.slam.metrics import align_positions, ate, outlier_scores
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 
 def _inliers_only(g: gen.GeneratedGraph) -> gen.GeneratedGraph:

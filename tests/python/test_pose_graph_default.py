@@ -11,7 +11,7 @@ from pathlib import Path
 import boxplus.slam as slam
 import pytest
 from boxplus.slam import generate
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 FAMILIES = [(f, d) for f in generate.FAMILIES for d in (2, 3)]
 

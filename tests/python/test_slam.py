@@ -1,6 +1,6 @@
 """Graph SLAM: g2o files, pose graphs, boxplus-g2o, against independent objectives.
 
-The optimum checks score boxplus' solution with ``boxplus.testing.g2o_reference``
+The optimum checks score boxplus' solution with ``harness.g2o_reference``
 (numpy, independent of the C++ factors) and compare with the final objectives
 of the peers (g2opy 2.3.0 Gauss-Newton/LM and GTSAM 4.3.0 LM, run from the
 same initial estimate and gauge, scored by the same numpy function). They do
@@ -14,8 +14,8 @@ import boxplus as bp
 import boxplus.slam as slam
 import numpy as np
 import pytest
-from boxplus.testing import boxplus_g2o
-from boxplus.testing import g2o_reference as g2o_ref
+from harness import boxplus_g2o
+from harness import g2o_reference as g2o_ref
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -17,7 +17,7 @@ import boxplus.slam as slam
 import numpy as np
 import pytest
 from boxplus import ParseError
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 GRID = DATA / "tinyGrid3D.g2o"

@@ -1,4 +1,4 @@
-"""The seeded fuzzer of the g2o loader and boxplus-g2o (boxplus.testing.fuzz):
+"""The seeded fuzzer of the g2o loader and boxplus-g2o (harness.fuzz):
 10⁴ mutated files in-process (and a sample through the CLI) must all end as
 ok or as an error naming the file (and line); the inputs of earlier bad
 outcomes, kept in tests/data/fuzz_regressions/, are replayed."""
@@ -10,7 +10,7 @@ import tempfile
 from pathlib import Path
 
 import pytest
-from boxplus.testing import boxplus_g2o, fuzz
+from harness import boxplus_g2o, fuzz
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 REGRESSIONS = DATA / "fuzz_regressions"

@@ -12,7 +12,7 @@ import boxplus as bp
 import boxplus.slam as slam
 import numpy as np
 import pytest
-from boxplus.testing import boxplus_g2o
+from harness import boxplus_g2o
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 SHARED = Path("/work/shared/data/slam")

@@ -10,7 +10,7 @@ comment-only files — and loads it in-process through
 
 ``ok``
     accepted, solved a few iterations, chi2 finite and equal to the independent
-    numpy evaluation (``boxplus.testing.g2o_reference``) where its tags allow,
+    numpy evaluation (``harness.g2o_reference``) where its tags allow,
     save-and-reload equal;
 ``parse_error``
     ``boxplus.ParseError`` naming ``file:line``;
@@ -34,8 +34,8 @@ The first four of the last five are failures: the input is written to
 ``tests/data/fuzz_regressions/`` (replayed by tests/python/test_slam_fuzz.py).
 Cases run in worker subprocesses so that a crash is caught and named.
 
-    python -m boxplus.testing.fuzz --cases 1000000 --seed 1
-    python -m boxplus.testing.fuzz --cases 1000000 --minutes 60 --cli build/cpp/boxplus-g2o
+    PYTHONPATH=tests python -m harness.fuzz --cases 1000000 --seed 1
+    PYTHONPATH=tests python -m harness.fuzz --cases 1000000 --minutes 60 --cli build/cpp/boxplus-g2o
 """
 
 from __future__ import annotations
@@ -57,6 +57,13 @@ OUTCOMES = ("ok", "parse_error", "named_error", "crash", "hang", "unnamed_error"
             "wrong_load", "non_finite")
 BAD = ("crash", "hang", "unnamed_error", "wrong_load", "non_finite")
 HANG_SECONDS = 10.0
+TESTS = Path(__file__).resolve().parents[1]  # the repository's tests/: seeds and regressions
+
+
+def _worker_env() -> dict:
+    """The environment of a worker subprocess: this harness importable from anywhere."""
+    path = os.environ.get("PYTHONPATH", "")
+    return {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in (str(TESTS), path) if p)}
 
 TAGS = ["VERTEX_SE2", "VERTEX_SE3:QUAT", "VERTEX_XY", "VERTEX_TRACKXYZ", "VERTEX2",
         "VERTEX3", "EDGE_SE2", "EDGE2", "EDGE_SE3:QUAT", "EDGE3", "EDGE_SE2_XY",
@@ -337,10 +344,10 @@ def check_graph(g, path: str, data: bytes, options: dict) -> tuple:
     """Invariants of an accepted graph; ('ok', '') or (outcome, detail)."""
     import warnings
 
+    import boxplus.slam as slam
     import numpy as np
 
-    import boxplus.slam as slam
-    from boxplus.testing import g2o_reference as ref
+    from harness import g2o_reference as ref
 
     poses = g.poses()
     if not _finite(poses) or not _finite(g.landmarks()):
@@ -485,13 +492,13 @@ def _chunk(seed: int, start: int, end: int, data: Path, cli: str | None, cli_eve
     counts: Counter = Counter()
     bad: list = []
     while start < end:
-        cmd = [sys.executable, "-m", "boxplus.testing.fuzz", "--worker", "--seed", str(seed),
+        cmd = [sys.executable, "-m", "harness.fuzz", "--worker", "--seed", str(seed),
                "--start", str(start), "--end", str(end), "--progress", progress,
                "--data", str(data), "--cli-every", str(cli_every)]
         if cli:
             cmd += ["--cli", cli]
         last = start - 1
-        with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True) as p:
+        with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, env=_worker_env()) as p:
             assert p.stdout is not None  # stdout=PIPE
             for line in p.stdout:
                 i, outcome, detail = json.loads(line)
@@ -564,13 +571,13 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cases", type=int, default=10000)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--data", type=Path, default=Path("tests/data"))
+    ap.add_argument("--data", type=Path, default=TESTS / "data")
     ap.add_argument("--cli", default=None, help="path of boxplus-g2o (a sample of cases)")
     ap.add_argument("--cli-every", type=int, default=200)
     ap.add_argument("--chunk", type=int, default=2000)
     ap.add_argument("--minutes", type=float, default=None,
                     help="stop after the chunk that passes this wall-clock budget")
-    ap.add_argument("--regressions", type=Path, default=Path("tests/data/fuzz_regressions"))
+    ap.add_argument("--regressions", type=Path, default=TESTS / "data" / "fuzz_regressions")
     ap.add_argument("--no-save", action="store_true", help="do not write regression inputs")
     ap.add_argument("--jobs", type=int, default=1, help="chunks run at a time (worker processes)")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
