@@ -28,12 +28,12 @@
 #include <thread>
 #include <vector>
 
+#include "boxplus/certify/certify.h"
 #include "boxplus/errors.h"
 #include "boxplus/io/atomic_file.h"
 #include "boxplus/io/g2o.h"
 #include "boxplus/loss.h"
 #include "boxplus/progress.h"
-#include "boxplus/slam/certify.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/solver_options.h"
 #include "boxplus/version.h"
@@ -262,7 +262,7 @@ int main(int argc, char** argv) {
   bool threads_given = false;
   bool quiet = false, full_report = false, certify = false, convention_given = false;
   bool overwrite_input = false;
-  boxplus::slam::CertifyOptions certify_options;
+  boxplus::certify::CertifyOptions certify_options;
   boxplus::slam::LoadOptions load;
   boxplus::SolverOptions so = boxplus::slam::DefaultSolverOptions();
   std::vector<std::string> args;
@@ -472,12 +472,12 @@ int main(int argc, char** argv) {
       return !g_interrupted.load();
     };
     const boxplus::SolveSummary s = g_interrupted ? boxplus::SolveSummary() : pg->Solve(so);
-    boxplus::slam::CertifyResult cert;
+    boxplus::certify::CertifyResult cert;
     if (certify && !g_interrupted && s.usable) {
       certify_options.local.on_iteration = so.on_iteration;
       certify_options.local.num_threads = threads;
       certify_options.interrupted = [] { return g_interrupted.load(); };
-      cert = boxplus::slam::CertifyPoseGraph(pg.get(), certify_options);
+      cert = boxplus::certify::CertifyPoseGraph(pg.get(), certify_options);
       std::fprintf(stderr,
                    "# certificate: %s\n# certificate: verification %.3f s, staircase and local "
                    "solves %.3f s, highest rank %d\n",

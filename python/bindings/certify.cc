@@ -1,4 +1,4 @@
-// Bindings of certified pose graphs (boxplus/slam/certify.h): PoseGraph.certify
+// Bindings of certified pose graphs (boxplus/certify/certify.h): PoseGraph.certify
 // and its result, boxplus._core.CertifyResult.
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.h"
-#include "boxplus/slam/certify.h"
+#include "boxplus/certify/certify.h"
 #include "solve_from_python.h"
 
 namespace py = pybind11;
@@ -15,7 +15,7 @@ namespace py = pybind11;
 namespace boxplus::python {
 
 void RegisterCertify(py::module_& m) {
-  using slam::CertifyResult;
+  using certify::CertifyResult;
   py::class_<CertifyResult>(m, "CertifyResult", R"doc(
 What PoseGraph.certify proved (SE-Sync's certificate, docs/guide/certify.md).
 ``certified``: the solution is the global optimum of SE-Sync's
@@ -57,7 +57,7 @@ dimension when none was needed); times in seconds.
   pose_graph.def(
       "certify",
       [](slam::PoseGraph& pg, double tolerance, int max_rank) {
-        slam::CertifyOptions co;
+        certify::CertifyOptions co;
         co.certificate.relative_tolerance = tolerance;
         co.max_rank = max_rank;
         CertifyResult result;
@@ -68,7 +68,7 @@ dimension when none was needed); times in seconds.
                         [&](const SolverOptions& o) {
                           co.local.on_iteration = o.on_iteration;
                           co.interrupted = [&o] { return !o.on_iteration(IterationInfo()); };
-                          result = slam::CertifyPoseGraph(&pg, co);
+                          result = certify::CertifyPoseGraph(&pg, co);
                           SolveSummary s;
                           s.usable = true;
                           s.termination = result.interrupted ? "interrupted" : "convergence";

@@ -1,5 +1,5 @@
-// SE-Sync's certificate and the Riemannian staircase (slam/certificate.h,
-// slam/staircase.h, slam/certify.h): the data matrix against the chordal
+// SE-Sync's certificate and the Riemannian staircase (certify/certificate.h,
+// certify/staircase.h, certify/certify.h): the data matrix against the chordal
 // residuals, the Stiefel manifold's ⊞ and Jacobians, certificates of known
 // optima, and a ring whose winding local minimum the staircase escapes.
 #include <cmath>
@@ -9,15 +9,21 @@
 
 #include <Eigen/Geometry>
 
-#include "../../cpp/src/slam/stiefel_manifold.h"
+#include "../../cpp/src/certify/stiefel_manifold.h"
+#include "boxplus/certify/certificate.h"
+#include "boxplus/certify/certify.h"
 #include "boxplus/io/g2o.h"
-#include "boxplus/slam/certificate.h"
-#include "boxplus/slam/certify.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/slam/pose_graph.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 namespace {
+
+using slam::InitMethod;
+using slam::LoadOptions;
+using slam::LoadPoseGraph;
+using slam::PoseGraph;
+using slam::PoseGraphOptions;
 
 const std::string kData = std::string(BOXPLUS_SOURCE_DIR) + "/tests/data/";
 
@@ -207,4 +213,4 @@ TEST(Certificate, RefusesWhatItDoesNotCover) {
 }
 
 }  // namespace
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

@@ -1,4 +1,4 @@
-#include "boxplus/slam/staircase.h"
+#include "boxplus/certify/staircase.h"
 
 #include <ceres/ceres.h>
 
@@ -10,12 +10,12 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 
+#include "../slam/nearest_rotation.h"
 #include "boxplus/errors.h"
-#include "nearest_rotation.h"
 #include "newton_polish.h"
 #include "stiefel_manifold.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
@@ -173,7 +173,7 @@ Eigen::MatrixXd RoundSolution(const SESyncGraph& g, const SpMat& M, const Eigen:
   for (int i = 0; i < n; ++i) positive += R.middleCols(d * i, d).determinant() > 0;
   if (2 * positive < n) R.row(d - 1) *= -1.0;
   for (int i = 0; i < n; ++i) {
-    R.middleCols(d * i, d) = NearestRotation(R.middleCols(d * i, d));
+    R.middleCols(d * i, d) = slam::NearestRotation(R.middleCols(d * i, d));
   }
   // Translations optimal for R: minimise tr(X M Xᵀ) over t with the anchor's
   // held at zero, i.e. L t = −M_tR Rᵀ on the other rows.
@@ -242,4 +242,4 @@ StaircaseResult RiemannianStaircase(const SESyncGraph& g, const SpMat& M, const 
   return out;
 }
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

@@ -7,7 +7,7 @@
 
 #include "stiefel_manifold.h"
 
-namespace boxplus::slam::internal {
+namespace boxplus::certify::internal {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
@@ -145,4 +145,4 @@ int NewtonPolish(const SESyncGraph& g, const SpMat& M, Eigen::MatrixXd* X, int m
   return kept;
 }
 
-}  // namespace boxplus::slam::internal
+}  // namespace boxplus::certify::internal

@@ -18,7 +18,7 @@
 
 #include <Eigen/Core>
 
-namespace boxplus::slam::internal {
+namespace boxplus::certify::internal {
 
 class StiefelManifold : public ceres::Manifold {
  public:
@@ -40,4 +40,4 @@ class StiefelManifold : public ceres::Manifold {
 // qf(A): the Q factor of A = QR (r × d) with R's diagonal made positive.
 Eigen::MatrixXd OrthonormalFactor(const Eigen::MatrixXd& A);
 
-}  // namespace boxplus::slam::internal
+}  // namespace boxplus::certify::internal

@@ -1,10 +1,10 @@
 // Certified pose-graph solutions: the pipeline of SE-Sync (Rosen et al., IJRR
 // 2019) on a PoseGraph solved in the kSESync convention.
 //
-//   1. Verify the current solution (slam/certificate.h): one sparse Cholesky
+//   1. Verify the current solution (certify/certificate.h): one sparse Cholesky
 //      factorisation of the certificate; a point that is not yet a critical
 //      point of SE-Sync's objective is first solved locally.
-//   2. If it is not certified: the Riemannian staircase (slam/staircase.h)
+//   2. If it is not certified: the Riemannian staircase (certify/staircase.h)
 //      from it, rounding the certified relaxation to SO(d)ⁿ, aligned to the
 //      gauge pose's estimate.
 //   3. A local solve from the rounded point in rank d, and its certificate.
@@ -26,12 +26,12 @@
 #include <functional>
 #include <string>
 
-#include "boxplus/slam/certificate.h"
+#include "boxplus/certify/certificate.h"
+#include "boxplus/certify/staircase.h"
 #include "boxplus/slam/pose_graph.h"
-#include "boxplus/slam/staircase.h"
 #include "boxplus/solver_options.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 
 // The local solves of steps 1 and 3: the pose-graph default with tolerances
 // tight enough for a critical point whose certificate resolves 1e-6·f.
@@ -61,6 +61,6 @@ struct CertifyResult {
   std::string message;         // one line for a person
 };
 
-CertifyResult CertifyPoseGraph(PoseGraph* graph, const CertifyOptions& options = {});
+CertifyResult CertifyPoseGraph(slam::PoseGraph* graph, const CertifyOptions& options = {});
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

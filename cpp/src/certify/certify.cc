@@ -1,4 +1,4 @@
-#include "boxplus/slam/certify.h"
+#include "boxplus/certify/certify.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,7 +9,14 @@
 #include "boxplus/errors.h"
 #include "newton_polish.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
+
+using slam::EdgeVerdict;
+using slam::OutlierMode;
+using slam::OutlierOptions;
+using slam::OutlierReport;
+using slam::PoseGraph;
+
 namespace {
 
 // Writes X (d × (n + dn), the anchor's translation zero) into the problem's
@@ -42,7 +49,7 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 SolverOptions CertifyLocalSolverOptions() {
-  SolverOptions o = DefaultSolverOptions();
+  SolverOptions o = slam::DefaultSolverOptions();
   o.max_iterations = 200;
   o.function_tolerance = 1e-15;
   o.gradient_tolerance = 1e-15;
@@ -190,4 +197,4 @@ CertifyResult CertifyPoseGraph(PoseGraph* pg, const CertifyOptions& options) {
   return out;
 }
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

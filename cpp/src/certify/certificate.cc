@@ -1,4 +1,4 @@
-#include "boxplus/slam/certificate.h"
+#include "boxplus/certify/certificate.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,7 +18,7 @@
 #include "boxplus/manifolds/se2.h"
 #include "boxplus/manifolds/se3.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
@@ -476,4 +476,4 @@ Certificate Certify(const SESyncGraph& g, const SpMat& M, const Eigen::MatrixXd&
   return c;
 }
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

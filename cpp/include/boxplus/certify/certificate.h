@@ -48,7 +48,7 @@
 
 #include "boxplus/io/g2o.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 
 struct CertificateOptions {
   // Certify when the bound on f − p* is at most this fraction of f.
@@ -135,4 +135,4 @@ CertificateParts ComputeCertificateParts(const SESyncGraph& graph,
 Certificate Certify(const SESyncGraph& graph, const Eigen::SparseMatrix<double>& M,
                     const Eigen::MatrixXd& X, const CertificateOptions& options = {});
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

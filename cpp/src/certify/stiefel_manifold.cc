@@ -4,7 +4,7 @@
 
 #include "boxplus/errors.h"
 
-namespace boxplus::slam::internal {
+namespace boxplus::certify::internal {
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -82,4 +82,4 @@ bool StiefelManifold::MinusJacobian(const double* x, double* jacobian) const {
   return true;
 }
 
-}  // namespace boxplus::slam::internal
+}  // namespace boxplus::certify::internal

@@ -4,13 +4,13 @@
 // second-order descent, Sec. 4.1.2), solve the rank-r relaxation
 //   min tr(X M Xᵀ)  over  X = [t | Y₁ … Yₙ],  tᵢ ∈ Rʳ,  Yᵢ ∈ St(d, r)   (Eq. 21)
 // to a critical point (Ceres' Levenberg–Marquardt on the Stiefel manifold of
-// slam/stiefel_manifold.h; the edge residuals are linear in X), and certify
-// it (slam/certificate.h). A certified rank-r point solves the semidefinite
+// certify/stiefel_manifold.h; the edge residuals are linear in X), and certify
+// it (certify/certificate.h). A certified rank-r point solves the semidefinite
 // relaxation: f there is a lower bound on the pose graph's optimum p*. It is
 // rounded to SO(d)ⁿ (Alg. 2: the top d singular directions of the rotation
 // blocks, the sign that makes most determinants positive, each block projected
 // to SO(d)) with the translations optimal for those rotations; the caller
-// refines that point locally and certifies it again (slam/certify.h).
+// refines that point locally and certifies it again (certify/certify.h).
 #pragma once
 
 #include <functional>
@@ -19,9 +19,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "boxplus/slam/certificate.h"
+#include "boxplus/certify/certificate.h"
 
-namespace boxplus::slam {
+namespace boxplus::certify {
 
 struct StaircaseOptions {
   int max_rank = 10;         // SE-Sync's default r_max
@@ -54,4 +54,4 @@ StaircaseResult RiemannianStaircase(const SESyncGraph& graph, const Eigen::Spars
 Eigen::MatrixXd RoundSolution(const SESyncGraph& graph, const Eigen::SparseMatrix<double>& M,
                               const Eigen::MatrixXd& Y);
 
-}  // namespace boxplus::slam
+}  // namespace boxplus::certify

@@ -2,7 +2,7 @@
 // Y₁ … Yₙ], Yᵢ ∈ St(d, r): the accuracy a certificate needs.
 //
 // The certificate's rounding terms grow with the residual E = S Xᵀ (half the
-// Riemannian gradient, slam/certificate.h); Gauss–Newton and Levenberg–
+// Riemannian gradient, certify/certificate.h); Gauss–Newton and Levenberg–
 // Marquardt converge only linearly on these large-residual problems, and
 // their line searches stop where f no longer resolves the decrease (about
 // ‖grad f‖ ~ 10⁻⁶ on MIT). Newton's model uses the exact Riemannian Hessian
@@ -16,13 +16,13 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "boxplus/slam/certificate.h"
+#include "boxplus/certify/certificate.h"
 
-namespace boxplus::slam::internal {
+namespace boxplus::certify::internal {
 
 // Up to `max_steps` Newton steps from X, each kept only if it reduces ‖E‖
 // without raising f beyond rounding; returns the number kept.
 int NewtonPolish(const SESyncGraph& graph, const Eigen::SparseMatrix<double>& M, Eigen::MatrixXd* X,
                  int max_steps = 5);
 
-}  // namespace boxplus::slam::internal
+}  // namespace boxplus::certify::internal
