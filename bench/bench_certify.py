@@ -1,7 +1,7 @@
 """Certified pose graphs: time to solve beside time to verify, and SE-Sync's figures.
 
 For every shared standard file and the generated graphs of
-``boxplus.slam.generate.benchmark_suite`` without wrong loop closures (their
+``boxplus.synthetic.pose_graphs.benchmark_suite`` without wrong loop closures (their
 objective is not SE-Sync's model) up to ``--max-poses`` poses, boxplus solves
 in SE-Sync's objective (``convention='sesync'``) as ``boxplus-g2o -c sesync
 --certify FILE`` does: the default start (the better of the file's estimate
@@ -35,7 +35,7 @@ from pathlib import Path
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from boxplus import slam  # noqa: E402
-from boxplus.slam.generate import benchmark_suite  # noqa: E402
+from boxplus.synthetic.pose_graphs import benchmark_suite  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 SHARED = Path(os.environ.get("BOXPLUS_SHARED_SLAM", HERE.parent.parent / "shared" / "data" / "slam"))

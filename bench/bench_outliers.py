@@ -1,6 +1,6 @@
 """Pose graphs with wrong loop closures: boxplus' default beside GTSAM's GNC and g2o's kernels.
 
-Each graph comes from ``boxplus.slam.generate`` with its truth: a family
+Each graph comes from ``boxplus.synthetic.pose_graphs`` with its truth: a family
 (2D/3D), a size, a fraction of wrong loop closures (0, 5, 20, 50, 80 %) and
 an outlier model ('random': independent wrong closures between random poses;
 'clustered': groups of ten that agree with each other, as perceptual aliasing
@@ -60,8 +60,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-from boxplus.slam import generate as gen  # noqa: E402
 from boxplus.slam.metrics import ate, outlier_scores  # noqa: E402
+from boxplus.synthetic import pose_graphs as gen  # noqa: E402
 
 FRACTIONS = (0.0, 0.05, 0.2, 0.5, 0.8)
 PEERS = ("gtsam gnc-tls", "gtsam gnc-gm", "g2o cauchy", "g2o dcs")
@@ -277,7 +277,7 @@ def contaminate(lines: list[str], dim: int, optimum: np.ndarray, ids: list[int],
     """Wrong loop closures for a file: ``fraction`` of its closures afterwards are wrong.
 
     'random': independent closures between random poses ≥ 2 apart, measurements
-    random poses within 5 odometry steps (boxplus.slam.generate's model);
+    random poses within 5 odometry steps (boxplus.synthetic.pose_graphs's model);
     'clustered': groups of ten consecutive pairs that agree with one wrong map
     (perceptual aliasing). Each takes the information of a random closure of the file."""
     tag = "EDGE_SE2" if dim == 2 else "EDGE_SE3:QUAT"

@@ -1,6 +1,6 @@
 """Pose-graph suite: boxplus' default beside g2o and GTSAM on generated graphs and real files.
 
-The graphs: ``boxplus.slam.generate.benchmark_suite(seed)`` (65 graphs: five
+The graphs: ``boxplus.synthetic.pose_graphs.benchmark_suite(seed)`` (65 graphs: five
 families, 2D and 3D, 10² to 10⁵ poses, noise from tiny to bignoise, three
 loop-closure densities, fifteen with wrong loop closures) written once into a
 cache directory, plus the shared standard files. Each system runs as a user
@@ -66,7 +66,7 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent / "tests"))  # the g2o oracle (tests/harness)
 
 import slam_peers as sp  # noqa: E402
-from boxplus.slam import generate  # noqa: E402
+from boxplus.synthetic import pose_graphs as generate  # noqa: E402
 from harness import g2o_reference as g2o_ref  # noqa: E402
 
 SHARED = Path(os.environ.get("BOXPLUS_SHARED_SLAM", "/work/shared/data/slam"))

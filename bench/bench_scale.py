@@ -1,6 +1,6 @@
 """Scale: a 10⁶-pose 2D and a 10⁵-pose 3D graph, boxplus beside g2o and GTSAM in one run.
 
-The graphs are generated (``boxplus.slam.generate``, seeded, cached): a
+The graphs are generated (``boxplus.synthetic.pose_graphs``, seeded, cached): a
 Manhattan world of 10⁶ poses in 2D and a sphere of 10⁵ poses in 3D (g2o's
 ``create_sphere`` layout), medium noise, every loop closure kept. Each system
 runs in its own process (so its peak memory is its own), reads the file with
@@ -47,7 +47,7 @@ GRAPHS = {
 
 
 def _graph(cache: Path, key: str) -> Path:
-    from boxplus.slam.generate import generate
+    from boxplus.synthetic.pose_graphs import generate
 
     spec = GRAPHS[key]
     path = cache / f"scale-{spec['family']}-{spec['dimension']}d-{spec['num_poses']}.g2o"

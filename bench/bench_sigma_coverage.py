@@ -37,8 +37,8 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 from boxplus.calib import calibrate_mono, calibrate_stereo
-from boxplus.calib.synthetic import board_points, observe, random_views
 from boxplus.manifolds import codec_of
+from boxplus.synthetic.cameras import board_points, observe, random_views
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
@@ -171,7 +171,8 @@ def rig_family() -> Trial:
 def camera_imu_family() -> Trial:
     """Camera–IMU in motion (boxplus.calib.camera_imu): a new swing, noise and truth
     offset per capture; imu_from_cam, the time offset and both biases."""
-    from boxplus.calib.camera_imu import calibrate_camera_imu, simulate_camera_imu
+    from boxplus.calib.camera_imu import calibrate_camera_imu
+    from boxplus.synthetic.camera_imu import simulate_camera_imu
 
     def trial(rng):
         data, truth, K = simulate_camera_imu(rng, duration=6.0, time_offset=float(rng.uniform(-0.03, 0.03)))
@@ -189,12 +190,12 @@ def camera_imu_family() -> Trial:
 
 
 def joint_rig_family() -> Trial:
-    """Le & Ng's arm and stereo pair (boxplus.joint.synthetic.make_rig: a new table,
+    """Le & Ng's arm and stereo pair (boxplus.synthetic.joint_rigs.make_rig: a new table,
     views and noise per capture), fitted by full maximum likelihood (the arm's corners
     reprojected into both images, encoder errors, the DH prior the truth is drawn with)."""
     from boxplus.joint import DHArm, JointRig, Stereo, horn
     from boxplus.joint.geometry import dh_pose, triangulate
-    from boxplus.joint.synthetic import make_rig
+    from boxplus.synthetic.joint_rigs import make_rig
 
     def trial(rng):
         data = make_rig(int(rng.integers(1 << 30)))
@@ -241,7 +242,7 @@ def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
     import tempfile
 
     from boxplus.slam import load_g2o
-    from boxplus.slam.generate import generate
+    from boxplus.synthetic.pose_graphs import generate
 
     kind = "SE2" if dimension == 2 else "SE3"
     manifold = bp.make_manifold(kind)

@@ -36,7 +36,7 @@ from boxplus.calib.suggest import (
     suggest_views,
     worst_projection_sigma,
 )
-from boxplus.calib.synthetic import board_points, observe
+from boxplus.synthetic.cameras import board_points, observe
 
 K_TRUE = np.array([500.0, 505.0, 320.0, 240.0, -0.25, 0.08, 0.001, -0.0015, -0.01])
 SIZE = (640, 480)

@@ -29,7 +29,7 @@ import boxplus as bp
 import boxplus.slam as slam
 import numpy as np
 from boxplus import blas_threads
-from boxplus.slam.generate import generate
+from boxplus.synthetic.pose_graphs import generate
 
 
 @contextmanager

@@ -21,7 +21,7 @@ import argparse
 import boxplus as bp
 import numpy as np
 from boxplus.calib import add_board, add_camera, add_gravity, init_camera, report, rotation_between
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
 COUNTS = 819 / 9.81  # counts per m/s²

@@ -18,7 +18,7 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 from boxplus.calib import calibrate_rig, write_camchain, write_camera_info, write_opencv_yaml
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 CAM_FROM_REF = {
     "cam1": bp.SE3(bp.SO3.exp(np.array([0.0, -0.25, 0.02])), np.array([-0.12, 0.01, 0.02])),

@@ -28,7 +28,7 @@ from boxplus.calib import (
     report,
     rotation_between,
 )
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
 # Any: the true values of different manifolds (poses, intrinsics vectors, ...).

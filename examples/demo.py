@@ -70,8 +70,8 @@ def stereo_from_images() -> None:
 def wrong_loop_closures() -> None:
     import tempfile
 
-    from boxplus.slam.generate import OUTLIER, generate
     from boxplus.slam.metrics import ate, outlier_scores
+    from boxplus.synthetic.pose_graphs import OUTLIER, generate
 
     generated = generate("manhattan", 2, 1000, noise="medium", outlier_fraction=0.2, seed=3)
     wrong = generated.kind == OUTLIER

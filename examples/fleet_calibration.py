@@ -44,7 +44,7 @@ from typing import Any
 import boxplus as bp
 import numpy as np
 from boxplus.calib import add_board, add_gravity, report
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 G_WORLD = np.array([0.0, 0.0, -9.81])
 MODEL = "opencv5"

@@ -23,7 +23,7 @@ from typing import Any
 import boxplus as bp
 import numpy as np
 from boxplus.calib import add_board, board_pose, hand_eye_park, mean_pose, report
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 # Any: the true values of different manifolds (poses, intrinsics vectors, ...).
 TRUTH: dict[str, Any] = dict(gripper_from_cam=bp.SE3(bp.SO3.exp(np.array([0.1, -0.2, 1.4])), [0.03, -0.05, 0.08]),

@@ -53,10 +53,10 @@ from boxplus.calib import (
     relative_pose_init,
     report,
     rotation_between,
-    synthetic,
     triangulate,
 )
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic import cameras as synthetic
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 MODEL = "opencv5"
 SIZE = (640, 480)
@@ -140,7 +140,7 @@ def _batch_chain(dh: np.ndarray, Q: np.ndarray) -> np.ndarray:
 
 def _arm_poses(side, n, rng, batch=4000):
     """n random (q, pan, tilt) whose hand marker both cameras see (rejection sampling)."""
-    from boxplus.calib.synthetic import project
+    from boxplus.calib.models import project
 
     out: list[tuple[np.ndarray, float, float]] = []  # (joint angles, pan, tilt)
     S, L2H, L2R = SHOULDER2TORSO[side], TRUTH["head_from_left"], TRUTH["right_from_left"]
@@ -166,7 +166,7 @@ def _arm_poses(side, n, rng, batch=4000):
 def simulate(rng, pixel_sigma=0.5, marker_sigma=None, accel_sigma=0.02, imu_by_hand_sigma=0.003,
              n_views=12, n_arm=25):
     """Board images (stereo + gravity) and marker images of both hands (stereo)."""
-    from boxplus.calib.synthetic import project
+    from boxplus.calib.models import project
 
     marker_sigma = 2 * pixel_sigma if marker_sigma is None else marker_sigma
     p = board_points()

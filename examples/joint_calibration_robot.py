@@ -1,6 +1,6 @@
 """Joint calibration of a whole robot: Le & Ng's Table II on a rig like their Sec. VIII.
 
-The rig (``boxplus.joint.synthetic.make_rig``): a 5-DOF arm in standard DH
+The rig (``boxplus.synthetic.joint_rigs.make_rig``): a 5-DOF arm in standard DH
 holding a checkerboard on a machined mount, a stereo pair (cam1, cam2) and a
 laser-line triangulator (cam2 plus a light sheet fixed in cam2's frame; stripe
 pixels without correspondences along the line). 10 board views (encoder
@@ -52,8 +52,8 @@ from boxplus.joint import (
     horn,
 )
 from boxplus.joint.geometry import dh_pose, project, sheet_points, triangulate
-from boxplus.joint.synthetic import SyntheticRig, make_rig
 from boxplus.manifolds import SE3, SO3
+from boxplus.synthetic.joint_rigs import SyntheticRig, make_rig
 
 METHODS = ("incremental", "joint, no sharing", "joint, sharing", "joint, more redundancy", "full ML")
 DH_PRIOR = (0.005, np.radians(2.0))  # the maker's tolerance on the table (m, rad)

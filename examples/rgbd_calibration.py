@@ -50,9 +50,9 @@ from boxplus.calib import (
     relative_pose_init,
     report,
     rotation_between,
-    synthetic,
 )
-from boxplus.calib.synthetic import board_points, observe, random_views
+from boxplus.synthetic import cameras as synthetic
+from boxplus.synthetic.cameras import board_points, observe, random_views
 
 MODEL = "opencv5"
 SIZE = (640, 480)

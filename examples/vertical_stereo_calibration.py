@@ -31,8 +31,9 @@ from typing import Any
 
 import boxplus as bp
 import numpy as np
-from boxplus.calib import add_board, add_camera, init_camera, relative_pose_init, report, synthetic
-from boxplus.calib.synthetic import board_points, observe, random_views
+from boxplus.calib import add_board, add_camera, init_camera, relative_pose_init, report
+from boxplus.synthetic import cameras as synthetic
+from boxplus.synthetic.cameras import board_points, observe, random_views
 
 MODEL = "radial2"
 SIZE = (640, 480)

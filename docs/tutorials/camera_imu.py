@@ -15,8 +15,9 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from boxplus.calib.camera_imu import calibrate_camera_imu, simulate_camera_imu
+from boxplus.calib.camera_imu import calibrate_camera_imu
 from boxplus.calib.plot import plot_camera_imu
+from boxplus.synthetic.camera_imu import simulate_camera_imu
 
 HERE = Path(__file__).resolve().parent
 

@@ -3,7 +3,7 @@
     python docs/tutorials/joint_rig.py [--out DIR]
 
 A 5-joint arm holds a chessboard in front of a stereo pair (simulated, with
-known truth: boxplus.joint.synthetic.make_rig). One JointRig holds the arm's
+known truth: boxplus.synthetic.joint_rigs.make_rig). One JointRig holds the arm's
 Denavit–Hartenberg table, both cameras' intrinsics, the pair's relative pose and
 where the pair stands in the arm's frame; every board corner is predicted by the
 arm at its encoder readings and reprojected into both images (Le & Ng's full
@@ -22,7 +22,7 @@ import numpy as np
 from boxplus import SE3, SO3, UndeterminedWarning
 from boxplus.joint import DHArm, JointRig, Stereo, horn
 from boxplus.joint.geometry import dh_pose, triangulate
-from boxplus.joint.synthetic import make_rig
+from boxplus.synthetic.joint_rigs import make_rig
 
 HERE = Path(__file__).resolve().parent
 

@@ -17,7 +17,7 @@ from pathlib import Path
 import boxplus.log
 import boxplus.slam as slam
 import matplotlib.pyplot as plt
-from boxplus.slam.generate import generate
+from boxplus.synthetic.pose_graphs import generate
 
 HERE = Path(__file__).resolve().parent
 INTEL = HERE.parents[1] / "data" / "slam" / "intel.g2o"

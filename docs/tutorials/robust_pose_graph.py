@@ -18,8 +18,8 @@ from pathlib import Path
 import boxplus.slam as slam
 import matplotlib.pyplot as plt
 import numpy as np
-from boxplus.slam.generate import OUTLIER, generate
 from boxplus.slam.metrics import ate, outlier_scores
+from boxplus.synthetic.pose_graphs import OUTLIER, generate
 
 HERE = Path(__file__).resolve().parent
 

@@ -154,7 +154,7 @@ def test_noise_keywords_give_one_model_and_errors_are_in_pixels():
     """sigma, covariance, information and noise describe the same Σ; the problem keeps
     the factor's NoiseModel, so errors()/rms() of C++ factors (projection included,
     issue 10) are in pixels, not whitened."""
-    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+    from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
     rng = np.random.default_rng(4)
     p = board_points()

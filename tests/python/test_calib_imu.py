@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from boxplus import SE3, SO3, OptimizationProblem, Rn
 from boxplus.calib import add_gravity, report, rotation_between
-from boxplus.calib.synthetic import numeric_jacobian
+from boxplus.synthetic.cameras import numeric_jacobian
 
 G = np.array([0.0, 0.0, -9.81])
 # a Kinect-style accelerometer: 819 counts per g, ±2 % per axis, tens of counts of bias

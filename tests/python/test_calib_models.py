@@ -10,7 +10,8 @@ import pytest
 from boxplus import SE3, SO3, OptimizationProblem, Rn
 from boxplus.calib import add_board, calibrate_mono
 from boxplus.calib.models import CAMERA_LABELS, camera_matrix, intrinsics_vector, project, rays
-from boxplus.calib.synthetic import board_points, look_at, numeric_jacobian, observe, random_views
+from boxplus.geometry import look_at
+from boxplus.synthetic.cameras import board_points, numeric_jacobian, observe, random_views
 
 cv2 = pytest.importorskip("cv2")
 

@@ -7,8 +7,8 @@ import pytest
 from boxplus import SE3, SO3, Rn
 from boxplus.calib import calibrate_mono, calibrate_rig
 from boxplus.calib.models import project
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
 from boxplus.calib.uncertainty import coverage, projection_sigma, projection_uncertainty
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 CAM_FROM_REF = {
     "cam1": SE3(SO3.exp(np.array([0.0, -0.25, 0.02])), np.array([-0.12, 0.01, 0.02])),

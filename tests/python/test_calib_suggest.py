@@ -12,7 +12,7 @@ from boxplus.calib.suggest import (
     suggestions_csv,
     worst_projection_sigma,
 )
-from boxplus.calib.synthetic import board_points, observe, random_views
+from boxplus.synthetic.cameras import board_points, observe, random_views
 
 K = np.array([500.0, 505.0, 320.0, 240.0, -0.25, 0.08, 0.001, -0.0015, -0.01])
 SIGMA = 0.3

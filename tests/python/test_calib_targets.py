@@ -93,7 +93,7 @@ def test_calibration_from_rendered_views(spec):
     """A pinhole camera (K known) looks at the rendered target from 10 poses, some
     with part of the board outside the image; detection and calibrate_rig find K."""
     from boxplus.calib import calibrate_rig
-    from boxplus.calib.synthetic import random_views
+    from boxplus.synthetic.cameras import random_views
 
     t = parse_target(spec)
     K = np.array([[520.0, 0, 318.0], [0, 515.0, 243.0], [0, 0, 1]])

@@ -141,7 +141,8 @@ def test_humanoid_head_dh_without_prior_names_the_redundant_last_link():
 
 def test_triangulate_and_marker_hand_eye_are_exact_without_noise():
     from boxplus.calib import marker_hand_eye, triangulate
-    from boxplus.calib.synthetic import TRUE_K, project
+    from boxplus.calib.models import project
+    from boxplus.synthetic.cameras import TRUE_K
 
     rng = np.random.default_rng(0)
     b_from_a = bp.SE3(bp.SO3.exp(np.array([0.01, -0.02, 0.03])), [-0.1, 0.002, 0.001])
@@ -220,7 +221,7 @@ def test_calibrate_mono_refuses_views_of_one_orientation():
     a word. Views of the board in one orientation do not determine the intrinsics:
     calibrate_mono names them and refuses."""
     from boxplus.calib import calibrate_mono
-    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+    from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
     rng = np.random.default_rng(3)
     p = board_points()

@@ -5,7 +5,8 @@ recordings with known truth (the true trajectory a spline on the same knot grid)
 import numpy as np
 import pytest
 from boxplus import SE3, SO3
-from boxplus.calib.camera_imu import CameraImuData, calibrate_camera_imu, simulate_camera_imu
+from boxplus.calib.camera_imu import CameraImuData, calibrate_camera_imu
+from boxplus.synthetic.camera_imu import simulate_camera_imu
 
 
 @pytest.mark.parametrize("seed, offset", [(0, 0.007), (1, -0.031)])

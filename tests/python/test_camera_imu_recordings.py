@@ -13,13 +13,13 @@ cv2 = pytest.importorskip("cv2")
 yaml = pytest.importorskip("yaml")
 
 from boxplus.calib import io  # noqa: E402
-from boxplus.calib.camera_imu import simulate_camera_imu  # noqa: E402
 from boxplus.calib.recordings import (  # noqa: E402
     read_euroc,
     read_kalibr_imu,
     read_kalibr_target,
 )
 from boxplus.calib.targets import parse_target  # noqa: E402
+from boxplus.synthetic.camera_imu import simulate_camera_imu  # noqa: E402
 from boxplus.synthetic.images import render_view  # noqa: E402
 
 ORIGIN_NS = 1_403_636_579_758_555_392  # an EuRoC-sized timestamp: seconds would lose µs

@@ -16,7 +16,7 @@ from pathlib import Path
 import boxplus as bp
 import pytest
 from boxplus import slam
-from boxplus.slam.generate import generate
+from boxplus.synthetic.pose_graphs import generate
 from harness import boxplus_g2o
 
 DATA = Path(__file__).resolve().parent.parent / "data"

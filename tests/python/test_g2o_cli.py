@@ -184,7 +184,7 @@ def test_a_file_with_new_tags_solves_from_the_command_line(tmp_path):
 def test_default_threads_give_the_one_thread_result_and_zero_is_refused(tmp_path):
     # Without -t the BLAS (CHOLMOD's supernodal factorisation, which a 3D
     # sphere of 500 poses takes) runs on every core; the optimum is the same.
-    from boxplus.slam import generate
+    from boxplus.synthetic import pose_graphs as generate
 
     path = tmp_path / "sphere.g2o"
     generate.generate("sphere", 3, 500, noise="medium", seed=2).write(path)

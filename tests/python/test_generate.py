@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 from boxplus import slam
-from boxplus.slam import se_arrays as se
-from boxplus.slam.generate import (
+from boxplus.synthetic import se_arrays as se
+from boxplus.synthetic.pose_graphs import (
     LOOP_CLOSURE,
     NOISE_LEVELS,
     OUTLIER,
@@ -12,7 +12,7 @@ from boxplus.slam.generate import (
     generate,
     main,
 )
-from boxplus.slam.trajectories import FAMILIES
+from boxplus.synthetic.trajectories import FAMILIES
 from harness.g2o_reference import edge_errors, read_g2o_arrays
 
 CASES = [(family, dim) for family in FAMILIES for dim in (2, 3)]

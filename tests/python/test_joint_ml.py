@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from boxplus.calib import add_dh_marker
 from boxplus.joint import Plane
-from boxplus.joint.synthetic import make_rig
+from boxplus.synthetic.joint_rigs import make_rig
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "joint_calibration_robot.py"
 TIGHT = {"function_tolerance": 1e-14, "gradient_tolerance": 1e-14, "parameter_tolerance": 1e-14,

@@ -19,7 +19,7 @@ from boxplus.joint import (
     dh_labels,
 )
 from boxplus.joint.geometry import dh_pose, plane_in, project, ray, sheet_points, triangulate
-from boxplus.joint.synthetic import NOMINAL_DH, make_rig
+from boxplus.synthetic.joint_rigs import NOMINAL_DH, make_rig
 
 K1 = np.array([600.0, 322.0, 238.0, -0.10])
 K2 = np.array([590.0, 318.0, 243.0, -0.08])

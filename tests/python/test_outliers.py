@@ -11,9 +11,9 @@ from pathlib import Path
 import boxplus.slam as slam
 import numpy as np
 import pytest
-from boxplus.slam import generate as gen
-from boxplus.slam import se_arrays as se
 from boxplus.slam.metrics import align_positions, ate, outlier_scores
+from boxplus.synthetic import pose_graphs as gen
+from boxplus.synthetic import se_arrays as se
 from harness import boxplus_g2o
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from boxplus._journal import journalled
 from boxplus.calib import add_board, add_gravity
-from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
 
 def _offset(x, c):

@@ -90,7 +90,7 @@ def test_plotting_never_changes_the_backend(tmp_path):
 
 
 def test_loop_closures_judged_wrong_are_drawn_and_the_title_is_the_inliers(tmp_path):
-    from boxplus.slam import generate as gen
+    from boxplus.synthetic import pose_graphs as gen
 
     g = gen.generate("manhattan", 2, 300, outlier_fraction=0.2, seed=2)
     g.write(tmp_path / "g.g2o")

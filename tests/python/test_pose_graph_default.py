@@ -10,7 +10,7 @@ from pathlib import Path
 
 import boxplus.slam as slam
 import pytest
-from boxplus.slam import generate
+from boxplus.synthetic import pose_graphs as generate
 from harness import boxplus_g2o
 
 FAMILIES = [(f, d) for f in generate.FAMILIES for d in (2, 3)]

@@ -266,7 +266,7 @@ def test_untouched_variable_is_reported_undetermined():
 def _parallel_view_sets(rng, n=5):
     """(geometry, world_from_cam per view) of sets whose board planes are parallel in
     the camera frame — Zhang's degenerate configuration."""
-    from boxplus.calib.synthetic import board_points, random_views
+    from boxplus.synthetic.cameras import board_points, random_views
 
     c = board_points().mean(axis=0)
     base = random_views(1, rng, c)[0]
@@ -297,7 +297,8 @@ def _outcome(calibrate, args, views_message):
 
 def _fronto_parallel_views(rng, n=5):
     """All boards facing the camera squarely: turns in their plane and small shifts."""
-    from boxplus.calib.synthetic import board_points, look_at
+    from boxplus.geometry import look_at
+    from boxplus.synthetic.cameras import board_points
 
     c = board_points().mean(axis=0)
     out = []
@@ -317,7 +318,7 @@ def test_calibrate_mono_refuses_parallel_boards_naming_the_views():
     from collections import Counter
 
     from boxplus.calib import calibrate_mono
-    from boxplus.calib.synthetic import TRUE_K, board_points, observe
+    from boxplus.synthetic.cameras import TRUE_K, board_points, observe
 
     p = board_points()
     counts: Counter = Counter()
@@ -341,7 +342,7 @@ def test_calibrate_mono_refuses_parallel_boards_naming_the_views():
 @pytest.mark.parametrize("seed", range(6))
 def test_calibrate_mono_accepts_tilted_views(seed):
     from boxplus.calib import calibrate_mono
-    from boxplus.calib.synthetic import TRUE_K, board_points, observe, random_views
+    from boxplus.synthetic.cameras import TRUE_K, board_points, observe, random_views
 
     rng = np.random.default_rng(100 + seed)
     p = board_points()
@@ -356,7 +357,7 @@ def test_calibrate_stereo_refuses_parallel_boards():
     from collections import Counter
 
     from boxplus.calib import calibrate_stereo
-    from boxplus.calib.synthetic import TRUE_K, board_points, observe
+    from boxplus.synthetic.cameras import TRUE_K, board_points, observe
 
     p = board_points()
     left_from_right = bp.SE3(bp.SO3.exp(np.array([0.0, 0.05, 0.0])), np.array([0.1, 0.0, 0.0]))

@@ -167,7 +167,7 @@ def test_graphs_solved_on_two_threads_equal_the_serial_solves(tmp_path):
     start (OPENBLAS_NUM_THREADS=1), solves on other threads, side by side, equal the
     serial ones bit for bit; with OpenBLAS' thread pool capped at run time, OpenBLAS
     computes differently on the main thread than on others, and they agree to rounding."""
-    from boxplus.slam.generate import generate
+    from boxplus.synthetic.pose_graphs import generate
 
     paths = []
     for seed, family in enumerate(("sphere", "torus")):

@@ -13,7 +13,7 @@ import boxplus.slam as slam
 import numpy as np
 import pytest
 from boxplus import Rn
-from boxplus.slam.generate import OUTLIER, generate
+from boxplus.synthetic.pose_graphs import OUTLIER, generate
 
 RESULT_SUFFIXES = ("Result", "Report", "Summary", "Verdict", "Uncertainty", "Suggestion",
                    "Calibration", "Validation", "Determinedness", "Rectification")
@@ -85,9 +85,10 @@ def test_determinedness_names_the_free_directions():
 
 
 def test_python_results():
-    from boxplus.calib.camera_imu import calibrate_camera_imu, simulate_camera_imu
+    from boxplus.calib.camera_imu import calibrate_camera_imu
     from boxplus.parallel import solve_many
     from boxplus.restarts import solve_with_restarts
+    from boxplus.synthetic.camera_imu import simulate_camera_imu
 
     def problem():
         o = boxplus.OptimizationProblem()

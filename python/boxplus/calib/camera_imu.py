@@ -34,7 +34,7 @@ extrinsics held, and the maximum-likelihood solve of everything. An answer whose
 residuals are 10× the noise, or whose offset moved by more than a knot spacing, is
 a ValueError, not a result. Each corner's spline segment is chosen at the start's
 offset; the solve's offset may move it by a fraction of a knot spacing (the segment's
-polynomials extrapolate). :func:`simulate_camera_imu` makes data with known truth.
+polynomials extrapolate). :func:`boxplus.synthetic.camera_imu.simulate_camera_imu` makes data with known truth.
 """
 
 from __future__ import annotations
@@ -47,12 +47,12 @@ import numpy as np
 from boxplus import _core
 from boxplus._plain import fields_todict
 from boxplus.calib.init import pose_from_rays, rotation_between
-from boxplus.calib.models import model_labels, project, rays
+from boxplus.calib.models import model_labels, rays
 from boxplus.manifolds import S2, SE3, SO3, Rn
 from boxplus.noise import NoiseModel
 from boxplus.problem import OptimizationProblem
 
-__all__ = ["CameraImuCalibration", "CameraImuData", "calibrate_camera_imu", "simulate_camera_imu"]
+__all__ = ["CameraImuCalibration", "CameraImuData", "calibrate_camera_imu", "spline_segment"]
 
 
 @dataclass
@@ -115,7 +115,7 @@ class CameraImuCalibration:
 
     def _state(self, t: float) -> tuple:
         """(p, q, v, a, ω_body) of the spline at IMU time t (clamped to its segments)."""
-        i, u = _segment(t, self.t0, self.knot_spacing, self.n_knots)
+        i, u = spline_segment(t, self.t0, self.knot_spacing, self.n_knots)
         k = np.array([self.problem[self.ids[f"knot{i + j}"]].ambient for j in range(4)])
         return _core.spline_evaluate(k, u, self.knot_spacing)
 
@@ -130,7 +130,7 @@ class CameraImuCalibration:
         return np.asarray(self._state(t)[4]).ravel()
 
 
-def _segment(t: float, t0: float, dt: float, n_knots: int) -> tuple[int, float]:
+def spline_segment(t: float, t0: float, dt: float, n_knots: int) -> tuple[int, float]:
     """(i, u) of the segment covering time t (clamped to the spline's segments)."""
     x = (t - t0) / dt
     i = int(np.clip(np.floor(x), 0, n_knots - 4))
@@ -259,8 +259,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     n_knots = int(np.floor((t_hi + 0.5 * dt - t0) / dt)) + 4
     inside = (t_imu >= t0) & (t_imu <= t0 + (n_knots - 3) * dt)
     # only the knots some measurement touches (an untouched one is undetermined)
-    used = [_segment(t, t0, dt, n_knots)[0] for t in t_imu[inside]]
-    used += [_segment(t + d0, t0, dt, n_knots)[0] for t, _ in frames]
+    used = [spline_segment(t, t0, dt, n_knots)[0] for t in t_imu[inside]]
+    used += [spline_segment(t + d0, t0, dt, n_knots)[0] for t, _ in frames]
     first, last = min(used), max(used)
     t0 += first * dt
     n_knots = last - first + 4
@@ -311,14 +311,14 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: np.ndarray, model: str
     an = NoiseModel.isotropic(3, accel_sigma)
     pn = NoiseModel.isotropic(2, pixel_sigma)
     for t, w, a, s in zip(t_in, gyro[inside], accel[inside], segment):
-        i, u = _segment(t, t0, dt, n_knots)
+        i, u = spline_segment(t, t0, dt, n_knots)
         kn = knots[i:i + 4]
         o.add_factor(_core.spline_gyro_factor(kn, ids[f"gyro_bias[{s}]"], u, dt, w, gn),
                      group="gyroscope")
         o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
                                                gravity_magnitude), group="accelerometer")
     for t, (uv, pts) in frames:
-        i, u = _segment(t + d0, t0, dt, n_knots)
+        i, u = spline_segment(t + d0, t0, dt, n_knots)
         kn = knots[i:i + 4]
         t_rel = t - (t0 + i * dt)
         for z, p in zip(uv, pts):
@@ -356,85 +356,3 @@ def _bias_step(b0: Any, b1: Any) -> np.ndarray:
     """The changes of biases from one segment to the next (the random-walk terms; batches
     of Rn, one row per pair)."""
     return b1.vec - b0.vec
-
-
-def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_rate: float = 20.0,
-                        imu_rate: float = 200.0, time_offset: float = 0.007,
-                        imu_from_cam: SE3 | None = None, pixel_sigma: float = 0.3,
-                        gyro_sigma: float = 0.005, accel_sigma: float = 0.05,
-                        gyro_bias: Any = (0.01, -0.02, 0.015), accel_bias: Any = (0.1, -0.05, 0.08),
-                        knot_spacing: float = 0.05, gyro_random_walk: float = 0.0,
-                        accel_random_walk: float = 0.0) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
-    """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
-    true trajectory is a spline of smooth random control points (a rig swinging
-    ±0.3 m and ±25° about a pose 0.8 m in front of the target), sampled by the IMU
-    (with its biases and white noise) and seen by a pinhole camera at its own clock
-    (IMU time = camera time + ``time_offset``); with ``gyro_random_walk`` /
-    ``accel_random_walk`` (densities) the biases drift from the given values as Wiener
-    processes (truth: ``*_bias_track`` per IMU sample, ``*_bias`` their means).
-    Returns (data, truth, intrinsics); the
-    truth holds the camera's pose at every frame (``world_from_cam``; the target's 42
-    corners are those of ``chessboard:7x6:0.06`` shifted by (−0.18, −0.15, 0)), so
-    that images can be rendered (:mod:`boxplus.synthetic.images`)."""
-    K = np.array([460.0, 460.0, 320.0, 240.0])
-    imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
-    target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
-    g_dir = np.array([0.05, -0.1, 1.0]) / np.linalg.norm([0.05, -0.1, 1.0])  # target frame
-    dt = knot_spacing
-    n = int(np.ceil(duration / dt)) + 6
-    t0 = -2 * dt  # knots at multiples of dt, as calibrate_camera_imu places them
-    # a smooth random swing: low-pass filtered noise at the knots
-    smooth = np.ones(7) / 7
-
-    def swing(scale: float, dims: int) -> np.ndarray:
-        x = rng.normal(0, 1, (n + 12, dims))
-        for _ in range(3):
-            x = np.stack([np.convolve(x[:, j], smooth, "same") for j in range(dims)], axis=1)
-        x = x[6:-6]
-        return scale * x / np.abs(x).max(axis=0)
-
-    # the camera looks at the target from z = −0.8 (target frame), the IMU follows it
-    base_cam = SE3(SO3(), np.array([0.0, 0.0, -0.8]))
-    pos, rot = swing(0.3, 3), swing(np.radians(25), 3)
-    knots = []
-    for j in range(n):
-        world_from_cam = SE3(base_cam.rot * SO3.exp(rot[j]), base_cam.pos + pos[j])
-        knots.append((world_from_cam * imu_from_cam.inverse()).ambient)
-    knots_a = np.array(knots)
-
-    def state(t: float) -> tuple:
-        i, u = _segment(t, t0, dt, n)
-        return _core.spline_evaluate(knots_a[i:i + 4], u, dt)
-
-    imu_t = np.arange(0.0, duration, 1.0 / imu_rate)
-    # biases: the given values, drifting as Wiener processes of the given densities (drawn
-    # only then, so that a seed gives the same recording as before drifts existed)
-    bg = np.tile(np.asarray(gyro_bias, float), (len(imu_t), 1))
-    ba = np.tile(np.asarray(accel_bias, float), (len(imu_t), 1))
-    if gyro_random_walk > 0 or accel_random_walk > 0:
-        steps = np.sqrt(1.0 / imu_rate) * rng.standard_normal((2, len(imu_t), 3))
-        steps[:, 0] = 0.0
-        bg += gyro_random_walk * np.cumsum(steps[0], axis=0)
-        ba += accel_random_walk * np.cumsum(steps[1], axis=0)
-    gyro, accel = [], []
-    for k, t in enumerate(imu_t):
-        p, q, v, a, w = state(t)
-        R = SO3(q).R
-        gyro.append(w + bg[k] + rng.normal(0, gyro_sigma, 3))
-        accel.append(R.T @ (a - 9.81 * g_dir) + ba[k] + rng.normal(0, accel_sigma, 3))
-    frame_t = np.arange(0.2, duration - 0.2, 1.0 / camera_rate)
-    corners, cam_poses = [], []
-    for tc in frame_t:
-        p, q, *_ = state(tc + time_offset)
-        world_from_cam = SE3(SO3(q), p) * imu_from_cam
-        cam_poses.append(world_from_cam)
-        pc = (target - world_from_cam.pos) @ world_from_cam.rot.R
-        uv = project(K, pc, "pinhole")
-        ok = (pc[:, 2] > 0) & np.all((uv >= 0) & (uv < [640, 480]), axis=1)
-        corners.append((uv[ok] + rng.normal(0, pixel_sigma, (ok.sum(), 2)), target[ok])
-                       if ok.sum() >= 8 else None)
-    truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg.mean(axis=0),
-             "accel_bias": ba.mean(axis=0), "gyro_bias_track": bg, "accel_bias_track": ba,
-             "gravity": 9.81 * g_dir, "world_from_cam": cam_poses}
-    data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel))
-    return data, truth, K

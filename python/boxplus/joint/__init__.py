@@ -11,7 +11,7 @@
 * :mod:`~boxplus.joint.constraints`: :data:`Plane` and :data:`Line` and their fits;
 * :func:`horn`; :func:`solve_with_restarts`, :func:`cross_validate` and :func:`kfold`
   (tools of any problem, :mod:`boxplus.restarts` and :mod:`boxplus.crossval`);
-* :mod:`~boxplus.joint.synthetic`: a seeded rig like Le & Ng's Sec. VIII robot;
+* :mod:`~boxplus.synthetic.joint_rigs`: a seeded rig like Le & Ng's Sec. VIII robot;
   :mod:`~boxplus.joint.geometry`: NumPy twins of the C++ terms.
 
 SE(3) = R³ × SO(3), tangent [translation, rotation]; poses map local to

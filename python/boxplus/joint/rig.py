@@ -811,7 +811,7 @@ class JointRig:
 
         The method is ``'auto'`` (Gauss–Newton with the line search, LM when a step
         fails; :class:`boxplus.SolverOptions`) unless ``options`` or ``method`` say
-        otherwise: on the generated rigs of :func:`boxplus.joint.synthetic.make_rig`
+        otherwise: on the generated rigs of :func:`boxplus.synthetic.joint_rigs.make_rig`
         (6 seeds × 2 folds × 4 methods) it reaches LM's cost (within 1.2e-12 relative)
         in 0.41 of LM's CPU time: at the optimum χ²/dof ≈ 1, small residuals against the
         model's curvature, where Gauss–Newton takes full steps and converges quickly."""

@@ -1,4 +1,4 @@
-"""Synthetic rigs with known ground truth, for tests and examples: a board,
+"""Board views with known ground truth, for tests and examples: a board,
 camera poses looking at it, OpenCV-model projection with pixel noise.
 
 Frames as everywhere in :mod:`boxplus.calib`: ``world_from_cam`` is a camera's
@@ -13,8 +13,7 @@ from boxplus.calib.models import project
 from boxplus.geometry import look_at
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["board_points", "look_at", "random_views", "project", "observe", "errors_in_sigma", "TRUE_K",
-           "numeric_jacobian"]
+__all__ = ["TRUE_K", "board_points", "errors_in_sigma", "numeric_jacobian", "observe", "random_views"]
 
 # fx fy cx cy k1 k2 p1 p2 k3 of a 640×480 camera (opencv5 layout)
 TRUE_K = np.array([520.0, 515.0, 322.0, 245.0, -0.28, 0.08, 0.001, -0.0005, 0.0])

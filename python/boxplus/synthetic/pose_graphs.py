@@ -1,16 +1,16 @@
 """Seeded pose-graph generator: g2o files with their ground truth beside them.
 
->>> from boxplus.slam.generate import generate
+>>> from boxplus.synthetic.pose_graphs import generate
 >>> g = generate("sphere", 3, 2500, noise=(0.1, 0.05), seed=3)
 >>> g.write("sphere.g2o")              # initial estimate: odometry composed
 >>> g.write_truth("sphere_truth.g2o")  # the same edges, the true poses
 
 Command line::
 
-    python -m boxplus.slam.generate --family sphere --poses 2500 --noise 0.1,0.05 \\
+    python -m boxplus.synthetic.pose_graphs --family sphere --poses 2500 --noise 0.1,0.05 \\
         --seed 3 -o out.g2o            # also writes out_truth.g2o
 
-Families (:mod:`boxplus.slam.trajectories` describes their geometry):
+Families (:mod:`boxplus.synthetic.trajectories` describes their geometry):
 ``manhattan`` (streets of a lattice town, g2o's simulator / M3500), ``grid``
 (a lawn-mower sweep, dense lattice closures), ``sphere`` (g2o's
 ``create_sphere``), ``torus`` (rings around a torus' tube, closing on
@@ -78,6 +78,8 @@ from typing import Union
 
 import numpy as np
 
+from boxplus.noise import NoiseModel, noise_model
+
 from . import se_arrays as se
 from .trajectories import FAMILIES, trajectory
 
@@ -113,7 +115,7 @@ _ROTATION_LIMIT = {(2, "g2o"): np.pi, (2, "log"): np.pi, (3, "g2o"): 2.0, (3, "l
 CONVENTIONS = ("g2o", "log")
 ODOMETRY, LOOP_CLOSURE, OUTLIER = 0, 1, 2
 
-NoiseSpec = Union[str, Sequence[float], np.ndarray]
+NoiseSpec = Union[str, Sequence[float], np.ndarray, NoiseModel]
 
 
 def _error_dim(dim: int) -> int:
@@ -121,15 +123,16 @@ def _error_dim(dim: int) -> int:
 
 
 def noise_covariance(noise: NoiseSpec, dim: int) -> np.ndarray:
-    """Σ (d × d, tangent order [translation, rotation]) of a noise specification.
+    """Σ (d × d, tangent order [translation, rotation]) of a noise specification,
+    checked by the core noise vocabulary (:func:`boxplus.noise.noise_model`).
 
     Parameters
     ----------
-    noise : str or array_like
+    noise : str, array_like or boxplus.NoiseModel
         A name of :data:`NOISE_LEVELS`; a pair ``(σ_t, σ_θ)`` (metres,
         radians; isotropic per block); d standard deviations (2D
-        ``[σx, σy, σθ]``, 3D ``[σx, σy, σz, σ_rx, σ_ry, σ_rz]``); or a full
-        d × d covariance Σ.
+        ``[σx, σy, σθ]``, 3D ``[σx, σy, σz, σ_rx, σ_ry, σ_rz]``); a full
+        d × d covariance Σ; or a :class:`boxplus.NoiseModel` of dimension d.
     dim : {2, 3}
 
     Raises
@@ -139,28 +142,23 @@ def noise_covariance(noise: NoiseSpec, dim: int) -> np.ndarray:
         that is not symmetric positive definite.
     """
     d = _error_dim(dim)
+    what = f"edge noise ({dim}D)"
+    if isinstance(noise, NoiseModel):
+        return noise_model(d, noise=noise, what=what).covariance_matrix
     if isinstance(noise, str):
         if noise not in NOISE_LEVELS:
             raise ValueError(f"unknown noise level {noise!r}; known: {', '.join(NOISE_LEVELS)} "
                              "or 'σ_t,σ_θ'")
         noise = NOISE_LEVELS[noise]
     a = np.asarray(noise, float)
+    if a.ndim == 1 and a.size == 2 and d != 2:
+        a = np.repeat(a, [dim, d - dim])  # (σ_t, σ_θ): isotropic per block
     if a.ndim == 2:
-        if a.shape != (d, d):
-            raise ValueError(f"noise covariance must be {d}×{d} in {dim}D, got {a.shape}")
-        if not np.all(np.isfinite(a)) or not np.allclose(a, a.T, rtol=1e-12, atol=0.0):
-            raise ValueError("noise covariance must be finite and symmetric")
-        if np.linalg.eigvalsh(a)[0] <= 0:
-            raise ValueError("noise covariance must be positive definite")
-        return 0.5 * (a + a.T)
-    if a.ndim != 1 or a.size not in (2, d):
+        return noise_model(d, covariance=a, what=what).covariance_matrix
+    if a.ndim != 1 or a.size != d:
         raise ValueError(f"noise must be a level name, (σ_t, σ_θ), {d} sigmas or a {d}×{d} "
                          f"covariance; got shape {a.shape}")
-    if not np.all(np.isfinite(a)) or np.any(a <= 0):
-        raise ValueError(f"noise sigmas must be finite and positive, got {a.tolist()}")
-    if a.size == 2:
-        a = np.repeat(a, [dim, d - dim])
-    return np.diag(a**2)
+    return noise_model(d, sigma=a, what=what).covariance_matrix
 
 
 def _chart_scale(dim: int, convention: str) -> np.ndarray:
@@ -343,7 +341,7 @@ def generate(
     ----------
     family : {'manhattan', 'grid', 'sphere', 'torus', 'random_walk'}
         The trajectory and its loop-closure candidates
-        (:mod:`boxplus.slam.trajectories`).
+        (:mod:`boxplus.synthetic.trajectories`).
     dimension : {2, 3}
         SE(2) or SE(3) poses.
     num_poses : int
@@ -580,9 +578,9 @@ def _write_graph(graph: GeneratedGraph, out: Path, truth: Path | None) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m boxplus.slam.generate``: writes a generated graph (and its truth)."""
+    """``python -m boxplus.synthetic.pose_graphs``: writes a generated graph (and its truth)."""
     ap = argparse.ArgumentParser(
-        prog="python -m boxplus.slam.generate",
+        prog="python -m boxplus.synthetic.pose_graphs",
         description="Writes a seeded pose graph as g2o, with the ground truth beside it.")
     ap.add_argument("--family", choices=list(FAMILIES))
     ap.add_argument("--dimension", type=int, choices=(2, 3),

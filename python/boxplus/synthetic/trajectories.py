@@ -1,7 +1,7 @@
 """True trajectories and loop-closure candidates of the generator's families.
 
 Each family returns the true poses of a robot in the order it visits them
-(ambient rows as in g2o files, see :mod:`boxplus.slam.se_arrays`) and the
+(ambient rows as in g2o files, see :mod:`boxplus.synthetic.se_arrays`) and the
 pairs ``(i, j)``, ``i < j − 1``, that a loop closure may connect. Lengths are
 in units of ``step`` metres (the distance between consecutive poses, 1 m by
 default); angles in radians.
