@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs what boxplus needs on a Debian machine, only what is missing:
-# Ceres 2.1, Eigen, SuiteSparse, GoogleTest, clang-format, OpenBLAS (a faster BLAS under
+# Ceres 2.1, Eigen, SuiteSparse, CLI11 (boxplus-g2o's options), GoogleTest, clang-format, OpenBLAS (a faster BLAS under
 # CHOLMOD than the reference one), a compiler, CMake and Python headers.
 set -euo pipefail
 
-pkgs=(g++ make libceres-dev libeigen3-dev libsuitesparse-dev libgtest-dev libgmock-dev
+pkgs=(g++ make libceres-dev libeigen3-dev libsuitesparse-dev libgtest-dev libgmock-dev libcli11-dev
       libopenblas0-pthread clang-format)
 command -v cmake >/dev/null || pkgs+=(cmake)
 command -v ninja >/dev/null || pkgs+=(ninja-build)

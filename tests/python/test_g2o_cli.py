@@ -194,3 +194,45 @@ def test_default_threads_give_the_one_thread_result_and_zero_is_refused(tmp_path
     assert final_chi2(default.stderr) == pytest.approx(final_chi2(one.stderr), rel=1e-9)
     zero = run("-t", "0", str(path))
     assert zero.returncode == 2 and "--threads must be >= 1" in zero.stderr
+
+
+def test_gnu_style_options_parse_as_in_any_tool(tmp_path):
+    # --opt=value, combined short flags with an attached value, a repeated option's
+    # last value, and '--' before a file whose name starts with '-'
+    a, b = tmp_path / "a.g2o", tmp_path / "b.g2o"
+    ra = run("--iterations=3", "--quiet", "--output=" + str(a), str(GRID))
+    rb = run("-i", "9", "-qi3", "-o", str(b), str(GRID))
+    assert ra.returncode == 0 and rb.returncode == 0, ra.stderr + rb.stderr
+    assert a.read_text() == b.read_text()
+    dashed = tmp_path / "-graph.g2o"
+    dashed.write_text(GRID.read_text())
+    r = subprocess.run([boxplus_g2o(), "-qi2", "--", dashed.name], capture_output=True, text=True,
+                       cwd=tmp_path, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert "-graph.g2o: " in r.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--bogus", "g.g2o"], "unknown option --bogus"),
+    (["g.g2o", "--bogus=3"], "unknown option --bogus=3"),
+    (["a.g2o", "b.g2o"], "more than one input file ('a.g2o', 'b.g2o')"),
+    (["-i", "x", "g.g2o"], "--iterations: not a non-negative integer: 'x'"),
+    (["-i", "-2", "g.g2o"], "--iterations: not a non-negative integer: '-2'"),
+    (["-w", "wide", "g.g2o"], "--robust-width"),
+    (["-o"], "-o"),
+    ([], "no input file"),
+])
+def test_usage_errors_name_the_option(args, message):
+    r = run(*args)
+    assert r.returncode == 2
+    assert message in r.stderr and "(try boxplus-g2o --help)" in r.stderr, r.stderr
+
+
+def test_help_and_version():
+    r = run("--help")
+    assert r.returncode == 0 and r.stdout.startswith("usage: boxplus-g2o [options] input.g2o")
+    for option in ("-i,--iterations N", "-s,--solver NAME", "--outliers FILE", "--gauge ID[,ID...]",
+                   "g2o's spellings are accepted too", "Exit codes:"):
+        assert option in r.stdout
+    v = run("--version")
+    assert v.returncode == 0 and v.stdout.startswith("boxplus-g2o ")

@@ -123,7 +123,7 @@ def test_a_source_build_without_the_debian_packages_names_them(tmp_path):
     msg = " ".join(r.stderr.split())
     assert "these are missing: libceres-dev (Ceres Solver 2.1, with glog)" in msg
     assert "libsuitesparse-dev (CHOLMOD)" in msg
-    assert "sudo apt-get install libceres-dev libeigen3-dev libsuitesparse-dev" in msg
+    assert "sudo apt-get install libceres-dev libeigen3-dev libsuitesparse-dev libcli11-dev" in msg
     assert "libeigen3-dev (Eigen" not in msg  # Eigen is there: only what is missing is named
 
 
