@@ -75,6 +75,17 @@ Eigen::MatrixXd Stack(PoseGraph& pg, io::VertexKind kind) {
 
 void RegisterSlam(py::module_& m) {
   m.def(
+      "g2o_record_tags",
+      [] {
+        py::list tags;
+        for (const io::TagInfo& t : io::RecordTags()) {
+          tags.append(py::make_tuple(t.tag, io::ToString(t.family), t.fields));
+        }
+        return tags;
+      },
+      "The record tags the g2o/TORO reader accepts, as (tag, format, fields) from the "
+      "reader's one tag table (boxplus::io::RecordTags).");
+  m.def(
       "pose_graph_solver_defaults",
       [] {
         const SolverOptions o = slam::DefaultSolverOptions();

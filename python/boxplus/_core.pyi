@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_reprojection_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'g2o_record_tags', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_reprojection_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1668,6 +1668,10 @@ def format_progress(info: IterationInfo) -> str:
 def format_summary(summary: SolveSummary) -> str:
     """
     The closing line of a solve: termination, χ² before → after, time.
+    """
+def g2o_record_tags() -> list:
+    """
+    The record tags the g2o/TORO reader accepts, as (tag, format, fields) from the reader's one tag table (boxplus::io::RecordTags).
     """
 def gravity_factor(model: str, world_from_rig: typing.SupportsInt | typing.SupportsIndex, imu_from_rig: typing.SupportsInt | typing.SupportsIndex, accel: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], imu_size: typing.SupportsInt | typing.SupportsIndex = 7) -> Factor:
     """

@@ -17,6 +17,7 @@
 #include "boxplus/certify/certify.h"
 #include "boxplus/errors.h"
 #include "boxplus/io/atomic_file.h"
+#include "boxplus/io/g2o.h"
 #include "boxplus/loss.h"
 #include "boxplus/slam/load.h"
 #include "boxplus/solver_options.h"
@@ -44,15 +45,11 @@ inline constexpr const char* kUsage =
     "usage: boxplus-g2o [options] input.g2o     ('-' reads standard input)\n\n";
 
 inline constexpr const char* kDescription =
-    R"(Optimises a pose graph in g2o format (the slam2d/slam3d tags of g2o:
-VERTEX_SE2, VERTEX_XY, VERTEX_SE3:QUAT, VERTEX_TRACKXYZ, EDGE_SE2, EDGE_SE2_XY,
-EDGE_SE3:QUAT, EDGE_SE3_TRACKXYZ, EDGE_SE2/SE3_OFFSET, EDGE_PRIOR_SE2,
-EDGE_SE3_PRIOR, EDGE_PRIOR_SE2_XY, EDGE_SE3_XYZ_PRIOR, EDGE_PRIOR_XY,
-EDGE_POINTXY(Z), EDGE_POINTXYZ_PRIOR, EDGE_SE2_POINTXY_OFFSET,
-EDGE_BEARING_SE2_XY, PARAMS_SE2OFFSET, PARAMS_SE3OFFSET, FIX; --list-types)
-or TORO format (VERTEX2, EDGE2, VERTEX3, EDGE3 with or without information,
-EQUIV), and GTSAM's LANDMARK2 landmark lines. The gauge is fixed by the FIX
-lines, else by the first pose vertex (not at all when a pose prior fixes it).)";
+    R"(Optimises a pose graph in g2o format (the slam2d/slam3d tags of g2o),
+TORO format (VERTEX2, EDGE2, VERTEX3, EDGE3 with or without information,
+EQUIV) or with GTSAM's LANDMARK2 landmark lines; --list-types lists every tag
+read, with its fields. The gauge is fixed by the FIX lines, else by the first
+pose vertex (not at all when a pose prior fixes it).)";
 
 inline constexpr const char* kFooter =
     R"(g2o's spellings are accepted too: -solver NAME (gn_var, lm_fix6_3_cholmod,
@@ -132,15 +129,11 @@ inline void ListRobustKernels() {
   std::printf("\n%s\n", kG2oKernelsHelp);
 }
 
+// The reader's tag table (io::RecordTags), a line per tag: format, tag, fields.
 inline void ListTypes() {
-  std::printf(
-      "g2o: VERTEX_SE2 VERTEX_XY VERTEX_SE3:QUAT VERTEX_TRACKXYZ PARAMS_SE2OFFSET "
-      "PARAMS_SE3OFFSET EDGE_SE2 EDGE_SE2_XY EDGE_SE2_OFFSET EDGE_SE2_POINTXY_OFFSET "
-      "EDGE_PRIOR_SE2 EDGE_PRIOR_SE2_XY EDGE_PRIOR_XY EDGE_POINTXY EDGE_BEARING_SE2_XY "
-      "EDGE_SE3:QUAT EDGE_SE3_TRACKXYZ EDGE_SE3_OFFSET EDGE_SE3_PRIOR EDGE_SE3_XYZ_PRIOR "
-      "EDGE_POINTXYZ EDGE_POINTXYZ_PRIOR FIX\nboxplus: EDGE_SE2_BEARING_RANGE\n"
-      "TORO: VERTEX VERTEX2 EDGE EDGE2 VERTEX3 EDGE3 EQUIV\n"
-      "GTSAM's example data: LANDMARK2 (= EDGE_SE2_XY)\n");
+  for (const io::TagInfo& t : io::RecordTags()) {
+    std::printf("%-22s %-24s %s\n", io::ToString(t.family), t.tag.c_str(), t.fields.c_str());
+  }
 }
 
 // Parses argv into *cl. Returns an exit code when the run ends here (--help,
@@ -293,7 +286,7 @@ inline std::optional<int> ParseCommandLine(int argc, char** argv, CommandLine* c
                "gn-ls' own, naming its Cholesky and ordering)");
   app.add_flag("--list-solvers", list_solvers, "print the solver names accepted and exit");
   app.add_flag("--list-robust-kernels", list_kernels, "print the kernel names and exit");
-  app.add_flag("--list-types", list_types, "print the tags read and exit");
+  app.add_flag("--list-types", list_types, "print the tags read, with their fields, and exit");
 
   try {
     std::reverse(args.begin(), args.end());  // CLI11 takes the arguments last first

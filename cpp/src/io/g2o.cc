@@ -1,5 +1,7 @@
 // The pose-graph file in memory (Graph: its checks and additions) and the
-// strict reader; the kind tables are g2o_kinds.cc, the writer g2o_write.cc.
+// strict reader's driver: the first pass is g2o_lines.cc, the records' parsers
+// and the tag table g2o_tags.cc, the kind tables g2o_kinds.cc, the writer
+// g2o_write.cc.
 #include "boxplus/io/g2o.h"
 
 #include <algorithm>
@@ -24,9 +26,14 @@
 #include <Eigen/Geometry>
 
 #include "boxplus/errors.h"
-#include "boxplus/factors/pose/unit_quaternion.h"
+#include "g2o_lines.h"
+#include "g2o_tags.h"
 
 namespace boxplus::io {
+
+using detail::IsPoseKind;
+using detail::PoseDimension;
+using detail::RangeOf;
 
 int Graph::VertexIndex(int id) const {
   auto it = index_of.find(id);
@@ -51,21 +58,6 @@ std::vector<int> Graph::FixedIds() const {
   return out;
 }
 
-namespace {
-
-int PoseDimension(VertexKind k) {
-  return k == VertexKind::kSE2 ? 2 : k == VertexKind::kSE3 ? 3 : 0;
-}
-
-bool IsPoseKind(VertexKind k) { return PoseDimension(k) != 0; }
-
-// The id range a vertex of this kind is numbered in.
-const std::unordered_map<int, int>& RangeOf(const Graph& g, VertexKind k) {
-  return IsPoseKind(k) ? g.index_of : g.landmark_index_of;
-}
-
-}  // namespace
-
 std::string Escaped(const std::string& text) {
   std::string out;
   out.reserve(text.size());
@@ -79,14 +71,6 @@ std::string Escaped(const std::string& text) {
     }
   }
   return out;
-}
-
-// A field as a message quotes it: escaped, and at most 40 bytes of it (a
-// 33-million-byte token once made a message of that size).
-std::string Excerpt(const std::string& field) {
-  constexpr size_t kMax = 40;
-  if (field.size() <= kMax) return Escaped(field);
-  return Escaped(field.substr(0, kMax)) + "... (" + std::to_string(field.size()) + " bytes)";
 }
 
 void Graph::CheckVertex(const Vertex& v) const {
@@ -229,273 +213,8 @@ Eigen::MatrixXd NearestPositiveDefinite(const Eigen::MatrixXd& info) {
 
 namespace {
 
-// A line split into whitespace-separated fields, without copies.
-struct Fields {
-  std::vector<std::pair<const char*, size_t>> f;
-  std::string str(size_t i) const { return std::string(f[i].first, f[i].second); }
-};
-
-// Field separators (space, tab, CR), by byte: one load per byte instead of
-// three comparisons (splitting is a third of the time a big file takes).
-struct Separators {
-  bool is[256] = {};
-  constexpr Separators() : is() {
-    is[static_cast<unsigned char>(' ')] = is[static_cast<unsigned char>('\t')] =
-        is[static_cast<unsigned char>('\r')] = true;
-  }
-};
-constexpr Separators kSeparators;
-
-void SplitFields(const char* begin, const char* end, Fields* out) {
-  out->f.clear();
-  const auto sep = [](const char* c) { return kSeparators.is[static_cast<unsigned char>(*c)]; };
-  const char* p = begin;
-  while (p < end) {
-    while (p < end && sep(p)) ++p;
-    if (p >= end || *p == '#') break;
-    const char* s = p;
-    while (p < end && !sep(p)) ++p;
-    out->f.emplace_back(s, static_cast<size_t>(p - s));
-  }
-}
-
-// A plain decimal [±]digits[.digits] of at most 15 characters, as most
-// numbers of a g2o file are ("0.000000", "-1.234567", "40000.0"): at most 15
-// digits, so its value m / 10ᵏ has m < 2⁵³ and 10ᵏ (k ≤ 15) exact doubles, and
-// the one IEEE division is correctly rounded: the double strtod returns
-// (Clinger's fast path). False for anything else (exponents, longer
-// numbers), which the full parser reads.
-bool PlainDecimal(const char* s, const char* e, double* out) {
-  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  if (e - s > 15) return false;
-  const bool negative = s < e && *s == '-';
-  if (s < e && (*s == '-' || *s == '+')) ++s;
-  int64_t m = 0;
-  int digits = 0, fraction = -1;  // digits after the dot, −1 before it
-  for (; s < e; ++s) {
-    const unsigned d = static_cast<unsigned>(*s - '0');
-    if (d <= 9) {
-      m = 10 * m + d;
-      ++digits;
-      if (fraction >= 0) ++fraction;
-    } else if (*s == '.' && fraction < 0) {
-      fraction = 0;
-    } else {
-      return false;
-    }
-  }
-  if (digits == 0) return false;
-  const double v = static_cast<double>(m) / kPow10[fraction < 0 ? 0 : fraction];
-  *out = negative ? -v : v;
-  return true;
-}
-
-// The field's value if it is a finite decimal number; false otherwise.
-// std::from_chars: correctly rounded like strtod, several times faster, decimal
-// only (no C99 hex, which no other g2o reader takes either). strtod's leading
-// '+' is kept; a number below the smallest double is read by strtod, which
-// rounds it to 0 or a subnormal where from_chars reports a range error.
-bool ToNumber(const char* s, size_t n, double* out) {
-  if (n == 0 || n >= 64) return false;
-  if (PlainDecimal(s, s + n, out)) return true;
-  const char* b = s;
-  if (*b == '+' && n > 1 && b[1] != '-' && b[1] != '+') ++b;
-  double v = 0.0;
-  const auto [end, ec] = std::from_chars(b, s + n, v, std::chars_format::general);
-  if (end != s + n) return false;
-  if (ec == std::errc::result_out_of_range) {
-    char buf[64];
-    std::copy(s, s + n, buf);
-    buf[n] = '\0';
-    v = std::strtod(buf, nullptr);
-  } else if (ec != std::errc()) {
-    return false;
-  }
-  if (!std::isfinite(v)) return false;
-  *out = v;
-  return true;
-}
-
-// The reader's first pass, which needs no line but its own: each line's
-// fields counted and every field after the tag converted to a number. It runs
-// on a block of lines while the second pass (the file's meaning, in order:
-// ids, offsets, checks, the graph) works on the block before, so a big file is
-// read on two cores (converting numbers was half of the reading time). A
-// field that is not a finite number is NaN here (no finite number is): the
-// second pass reports it, in file order, with the message it always had.
-struct LineView {
-  const char* begin;  // the line, without its '\n'
-  const char* end;
-  const char* tag;  // the first field (none if fields == 0)
-  uint32_t tag_size;
-  uint32_t fields;  // before a comment, the tag included
-  size_t numbers;   // index of field 1's value in the block's numbers
-};
-
-struct ConvertedBlock {
-  std::vector<LineView> lines;
-  std::vector<double> numbers;
-};
-
-ConvertedBlock ConvertBlock(const char* begin, const char* end) {
-  ConvertedBlock block;
-  Fields fields;
-  for (const char* p = begin; p < end;) {
-    const char* eol = static_cast<const char*>(std::memchr(p, '\n', end - p));
-    if (!eol) eol = end;
-    SplitFields(p, eol, &fields);
-    const size_t n = fields.f.size();
-    block.lines.push_back({p, eol, n ? fields.f[0].first : p,
-                           n ? static_cast<uint32_t>(fields.f[0].second) : 0u,
-                           static_cast<uint32_t>(n), block.numbers.size()});
-    for (size_t i = 1; i < n; ++i) {
-      double v = std::numeric_limits<double>::quiet_NaN();
-      ToNumber(fields.f[i].first, fields.f[i].second, &v);
-      block.numbers.push_back(v);
-    }
-    p = eol + 1;
-  }
-  return block;
-}
-
-// Block boundaries: line starts about kBlockBytes apart, the first at the
-// text's start and the last at its end.
-std::vector<const char*> BlockCuts(const char* begin, const char* end) {
-  constexpr size_t kBlockBytes = size_t{1} << 20;
-  std::vector<const char*> cuts{begin};
-  while (cuts.back() < end) {
-    const char* c = cuts.back();
-    if (static_cast<size_t>(end - c) <= kBlockBytes) {
-      cuts.push_back(end);
-      break;
-    }
-    const char* eol =
-        static_cast<const char*>(std::memchr(c + kBlockBytes, '\n', end - c - kBlockBytes));
-    cuts.push_back(eol ? eol + 1 : end);
-  }
-  return cuts;
-}
-
-// The second pass's view of one line: its converted numbers, and its fields'
-// text when a message quotes them (split again only then).
-class LineParser {
- public:
-  LineParser(const std::string& file, int line, const LineView& view, const double* numbers)
-      : file_(file), line_(line), view_(view), numbers_(numbers) {}
-
-  [[noreturn]] void Fail(const std::string& what) const { throw ParseError(file_, line_, what); }
-  // Fields before a comment, the tag included.
-  size_t size() const { return view_.fields; }
-  std::string Tag() const { return std::string(view_.tag, view_.tag_size); }
-  // The field as it may be quoted in a message (bytes outside printable ASCII
-  // escaped as \xNN: a message is text, the file may not be).
-  std::string Quoted(size_t i) const { return Excerpt(Split().str(i)); }
-  // The fields' text, from the tag to the last field before a comment.
-  std::string Text() const {
-    const Fields& f = Split();
-    return std::string(f.f.front().first, f.f.back().first + f.f.back().second);
-  }
-  void ExpectCount(size_t numbers, const char* layout) const {
-    const size_t have = size() - 1;
-    if (have < numbers) {
-      Fail(Quoted(0) + ": too few numbers (" + std::to_string(have) + ", expected " +
-           std::to_string(numbers) + ": " + layout + ")");
-    }
-    if (have > numbers) {
-      Fail(Quoted(0) + ": too many numbers (" + std::to_string(have) + ", expected " +
-           std::to_string(numbers) + ": " + layout + ")");
-    }
-  }
-  double Number(size_t i) const {
-    const double v = numbers_[i - 1];
-    if (std::isnan(v)) Bad(i);
-    return v;
-  }
-  int Id(size_t i) const {
-    const double v = Number(i);
-    if (v != std::floor(v) || std::abs(v) > 2e9) {
-      Fail("field " + std::to_string(i + 1) + " ('" + Quoted(i) + "') is not an integer id");
-    }
-    return static_cast<int>(v);
-  }
-  // Reads the upper triangle of an n×n matrix starting at field `first`.
-  Eigen::MatrixXd UpperTriangle(size_t first, int n) const {
-    Eigen::MatrixXd m(n, n);
-    size_t k = first;
-    for (int r = 0; r < n; ++r) {
-      for (int c = r; c < n; ++c) {
-        m(r, c) = m(c, r) = Number(k++);
-      }
-    }
-    return m;
-  }
-  Eigen::Vector4d Quaternion(size_t first) const {
-    Eigen::Vector4d q(Number(first), Number(first + 1), Number(first + 2), Number(first + 3));
-    if (!NormalizeQuaternion(q.data(), q.data())) {
-      Fail(Quoted(0) + ": quaternion has zero norm");
-    }
-    return q;
-  }
-
- private:
-  [[noreturn]] void Bad(size_t i) const {
-    Fail("field " + std::to_string(i + 1) + " ('" + Quoted(i) + "') is not a finite number");
-  }
-  const Fields& Split() const {
-    if (split_.f.empty()) SplitFields(view_.begin, view_.end, &split_);
-    return split_;
-  }
-  const std::string& file_;
-  int line_;
-  const LineView& view_;
-  const double* numbers_;
-  mutable Fields split_;
-};
-
-Eigen::Vector4d QuatFromEuler(double roll, double pitch, double yaw) {
-  const Eigen::Quaterniond q = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX());
-  return q.coeffs();
-}
-
-// TORO EDGE2 stores I11 I12 I22 I33 I13 I23.
-Eigen::MatrixXd ToroInfo2(const LineParser& p, size_t first) {
-  Eigen::MatrixXd m(3, 3);
-  const double i11 = p.Number(first), i12 = p.Number(first + 1), i22 = p.Number(first + 2),
-               i33 = p.Number(first + 3), i13 = p.Number(first + 4), i23 = p.Number(first + 5);
-  m << i11, i12, i13, i12, i22, i23, i13, i23, i33;
-  return m;
-}
-
-}  // namespace
-
-namespace {
-
-// The value of an offset parameter for an edge: identity (empty) when the id
-// has no PARAMS line and `lenient` (EDGE_SE3_TRACKXYZ, as before), else the
-// line must exist and be of the edge's dimension.
-Eigen::VectorXd OffsetFor(const Graph& g, const LineParser& lp, const std::string& tag, int id,
-                          int dimension, bool lenient) {
-  auto it = g.offsets.find(id);
-  const char* params = dimension == 2 ? "PARAMS_SE2OFFSET" : "PARAMS_SE3OFFSET";
-  if (it == g.offsets.end()) {
-    if (lenient) return Eigen::VectorXd();
-    lp.Fail(tag + ": offset parameter " + std::to_string(id) + " has no " + params +
-            " line before it");
-  }
-  if (it->second.size() != (dimension == 2 ? 3 : 7)) {
-    lp.Fail(tag + ": offset parameter " + std::to_string(id) + " is not a " + params);
-  }
-  return it->second;
-}
-
-bool IsIdentityOffset(const Eigen::VectorXd& o) {
-  if (o.size() == 0) return true;
-  if (o.size() == 3) return o.cwiseAbs().maxCoeff() == 0.0;
-  return o.head<3>().cwiseAbs().maxCoeff() == 0.0 && std::abs(o[6]) == 1.0;
-}
+using detail::GraphBuilder;
+using detail::LineParser;
 
 // Whether the initialisation of a file without VERTEX lines can place the
 // ends of this edge (pose-pose edges and the landmark observations it knows).
@@ -507,326 +226,11 @@ bool InitialisableWithoutVertices(EdgeKind k) {
 // Tight information of an EQUIV constraint (σ = 1e-3 per coordinate).
 constexpr double kEquivInformation = 1e6;
 
-}  // namespace
-
-namespace {
-
-Graph ParseText(std::string_view text, const std::string& name, const ReadOptions& options,
-                ReadReport* report) {
-  ReadReport local;
-  ReadReport& rep = report ? *report : local;
-  rep = ReadReport();
-  Graph g;
-  g.name = name;
-  bool any_vertex_line = false;
-  std::vector<int> fix_lines;
-  struct Equiv {
-    int a, b, line;
-    size_t record;
-  };
-  std::vector<Equiv> equivs;
-  const char* const begin = text.data();
-  const char* const end = begin + text.size();
-  {  // the edges' and records' storage at once (no regrowth: its copies raise the peak memory)
-    size_t lines = 0, edges = 0, vertices = 0;
-    for (const char* q = begin; q < end; ++lines) {
-      if (*q == 'E') ++edges;  // EDGE…, EQUIV
-      if (*q == 'V') ++vertices;
-      const char* eol = static_cast<const char*>(std::memchr(q, '\n', end - q));
-      q = eol ? eol + 1 : end;
-    }
-    g.edges.reserve(edges);
-    g.vertices.reserve(vertices);
-    g.index_of.reserve(vertices);  // rehashing a million ids cost a tenth of the reading
-    g.order.reserve(lines);
-  }
-  int line = 0;
-  const int progress_every = std::max(1, options.progress_lines);
-  const std::vector<const char*> cuts = BlockCuts(begin, end);
-  const size_t num_blocks = cuts.size() - 1;
-  // One block converted ahead on another thread, when there is one (a
-  // deferred launch converts it on this thread at get(); with both flags a
-  // thread that cannot be started falls back to that).
-  const auto policy = num_blocks > 1 && std::thread::hardware_concurrency() > 1
-                          ? std::launch::async | std::launch::deferred
-                          : std::launch::deferred;
-  const auto convert = [&](size_t k) {
-    return std::async(policy, ConvertBlock, cuts[k], cuts[k + 1]);
-  };
-  std::future<ConvertedBlock> ahead;
-  if (num_blocks > 0) ahead = convert(0);
-  for (size_t block_index = 0; block_index < num_blocks; ++block_index) {
-    const ConvertedBlock block = ahead.get();
-    if (block_index + 1 < num_blocks) ahead = convert(block_index + 1);
-    for (const LineView& view : block.lines) {
-      ++line;
-      if (options.on_progress && line % progress_every == 0) {
-        options.on_progress(
-            {line, static_cast<size_t>(std::min(view.end + 1, end) - begin), text.size()});
-      }
-      if (view.fields == 0) continue;
-      LineParser lp(name, line, view, block.numbers.data() + view.numbers);
-      const std::string tag = lp.Tag();
-
-      auto add_vertex = [&](VertexKind kind, Eigen::VectorXd est, bool toro) {
-        const int id = lp.Id(1);
-        const auto& range = RangeOf(g, kind);
-        if (range.count(id)) {
-          lp.Fail("vertex id " + std::to_string(id) + " appears twice (first at line " +
-                  std::to_string(g.vertices[range.at(id)].line) + "), both " +
-                  (IsPoseKind(kind) ? "poses" : "landmarks"));
-        }
-        Vertex v;
-        v.id = id;
-        v.kind = kind;
-        v.estimate = std::move(est);
-        v.toro = toro;
-        v.line = line;
-        const int pose_dim = PoseDimension(kind);
-        if (pose_dim && g.dimension && g.dimension != pose_dim) {
-          lp.Fail("mixes 2D and 3D poses");
-        }
-        try {
-          g.AddVertex(std::move(v));
-        } catch (const Error& e) {
-          lp.Fail(e.what());
-        }
-        any_vertex_line = true;
-      };
-      // Fills the edge's common fields, checks and repairs its information and
-      // appends it; returns it for the caller's extra fields.
-      auto add_edge = [&](EdgeKind kind, int from, int to, Eigen::VectorXd z, Eigen::MatrixXd info,
-                          bool toro, int param = 0) -> Edge& {
-        if (!IsUnary(kind) && from == to && EndIsPose(kind, 0) == EndIsPose(kind, 1)) {
-          lp.Fail(tag + ": an edge from vertex " + std::to_string(from) + " to itself");
-        }
-        if (kind == EdgeKind::kSE2BearingRange && !(z[1] >= 0.0)) {
-          lp.Fail(tag + ": negative range " + std::to_string(z[1]));
-        }
-        if (!IsPositiveDefinite(info)) {
-          if (!options.repair_information) {
-            lp.Fail(tag +
-                    ": information matrix is not positive definite (use the repair "
-                    "option to replace it by the nearest positive-definite matrix)");
-          }
-          if (!CanRepair(info)) {
-            lp.Fail(tag + ": information matrix is zero or not finite: cannot be repaired");
-          }
-          try {
-            info = NearestPositiveDefinite(info);
-          } catch (const Error& e) {
-            lp.Fail(tag + ": " + e.what());
-          }
-          ++rep.repaired_information;
-          rep.repaired_lines.push_back(line);
-        }
-        const bool three_d = MeasurementSize(kind) == 7 || kind == EdgeKind::kSE3Point3 ||
-                             kind == EdgeKind::kSE3Point3Offset ||
-                             kind == EdgeKind::kSE3PositionPrior ||
-                             kind == EdgeKind::kPoint3Prior || kind == EdgeKind::kPoint3Point3;
-        const int pose_dim = three_d ? 3 : 2;
-        if (g.dimension && g.dimension != pose_dim) lp.Fail("mixes 2D and 3D poses");
-        g.dimension = pose_dim;
-        Edge e;
-        e.kind = kind;
-        e.from = from;
-        e.to = to;
-        e.measurement = std::move(z);
-        e.information = std::move(info);
-        e.toro = toro;
-        e.param = param;
-        e.line = line;
-        g.edges.push_back(std::move(e));
-        g.order.push_back({Graph::RecordType::kEdge, static_cast<int>(g.edges.size()) - 1});
-        return g.edges.back();
-      };
-      auto se2 = [&](size_t first) {
-        return Eigen::Vector3d(lp.Number(first), lp.Number(first + 1),
-                               WrapAngleExact(lp.Number(first + 2)));
-      };
-      auto se3 = [&](size_t first) {
-        Eigen::VectorXd z(7);
-        z << lp.Number(first), lp.Number(first + 1), lp.Number(first + 2), lp.Quaternion(first + 3);
-        return z;
-      };
-      auto vec = [&](size_t first, int n) {
-        Eigen::VectorXd v(n);
-        for (int k = 0; k < n; ++k) v[k] = lp.Number(first + k);
-        return v;
-      };
-      auto keep_param_line = [&]() {
-        g.params.push_back(lp.Text());
-        g.order.push_back({Graph::RecordType::kParam, static_cast<int>(g.params.size()) - 1});
-      };
-      auto define_offset = [&](int id, Eigen::VectorXd value) {
-        if (g.offsets.count(id)) {
-          lp.Fail(tag + ": parameter id " + std::to_string(id) + " is defined twice");
-        }
-        g.offsets[id] = std::move(value);
-        keep_param_line();
-      };
-
-      if (tag == "VERTEX_SE2" || tag == "VERTEX2" || tag == "VERTEX") {
-        lp.ExpectCount(4, "id x y theta");
-        add_vertex(VertexKind::kSE2, se2(2), tag != "VERTEX_SE2");
-      } else if (tag == "VERTEX_SE3:QUAT") {
-        lp.ExpectCount(8, "id x y z qx qy qz qw");
-        add_vertex(VertexKind::kSE3, se3(2), false);
-      } else if (tag == "VERTEX3") {
-        lp.ExpectCount(7, "id x y z roll pitch yaw");
-        Eigen::VectorXd v(7);
-        v << lp.Number(2), lp.Number(3), lp.Number(4),
-            QuatFromEuler(lp.Number(5), lp.Number(6), lp.Number(7));
-        add_vertex(VertexKind::kSE3, std::move(v), true);
-      } else if (tag == "VERTEX_XY") {
-        lp.ExpectCount(3, "id x y");
-        add_vertex(VertexKind::kPoint2, vec(2, 2), false);
-      } else if (tag == "VERTEX_TRACKXYZ") {
-        lp.ExpectCount(4, "id x y z");
-        add_vertex(VertexKind::kPoint3, vec(2, 3), false);
-      } else if (tag == "EDGE_SE2") {
-        lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I13 I22 I23 I33");
-        // The measured angle wrapped exactly, as a vertex's: for |θ| ≫ 2π the
-        // solver's wrap(θj − θi − θz) would lose every digit of it.
-        add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2), se2(3), lp.UpperTriangle(6, 3), false);
-      } else if (tag == "EDGE2" || tag == "EDGE") {
-        lp.ExpectCount(11, "i j dx dy dtheta I11 I12 I22 I33 I13 I23");
-        add_edge(EdgeKind::kSE2, lp.Id(1), lp.Id(2), se2(3), ToroInfo2(lp, 6), true);
-      } else if (tag == "EDGE_SE3:QUAT") {
-        lp.ExpectCount(30, "i j dx dy dz qx qy qz qw I(21, upper triangle)");
-        add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), se3(3), lp.UpperTriangle(10, 6), false);
-      } else if (tag == "EDGE3") {
-        // GTSAM's loader reads EDGE3 without I(21) as the identity information.
-        const bool without_info = lp.size() == 9;
-        if (!without_info) {
-          lp.ExpectCount(29, "i j dx dy dz roll pitch yaw [I(21, upper triangle)]");
-        }
-        Eigen::VectorXd z(7);
-        z << lp.Number(3), lp.Number(4), lp.Number(5),
-            QuatFromEuler(lp.Number(6), lp.Number(7), lp.Number(8));
-        const Eigen::MatrixXd info =
-            without_info ? Eigen::MatrixXd::Identity(6, 6) : lp.UpperTriangle(9, 6);
-        Edge& e = add_edge(EdgeKind::kSE3, lp.Id(1), lp.Id(2), z, info, true);
-        if (without_info) {
-          e.identity_information = true;
-          if (rep.identity_information++ == 0) rep.first_identity_line = line;
-        }
-      } else if (tag == "EDGE_SE2_XY" || tag == "LANDMARK2") {
-        // LANDMARK2 (GTSAM's example data: cityTrees, victoriaPark): the same
-        // line as EDGE_SE2_XY, pose id, landmark id, the point in the pose's
-        // frame and its information; written back as LANDMARK2.
-        lp.ExpectCount(7, "i j x y I11 I12 I22");
-        add_edge(EdgeKind::kSE2Point2, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
-                 tag == "LANDMARK2");
-      } else if (tag == "EDGE_SE3_TRACKXYZ") {
-        lp.ExpectCount(12, "i j offset_id x y z I(6, upper triangle)");
-        const int param = lp.Id(3);
-        Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 3, true);
-        const bool identity = IsIdentityOffset(offset);
-        Edge& e = add_edge(identity ? EdgeKind::kSE3Point3 : EdgeKind::kSE3Point3Offset, lp.Id(1),
-                           lp.Id(2), vec(4, 3), lp.UpperTriangle(7, 3), false, param);
-        if (!identity) e.offset = std::move(offset);
-      } else if (tag == "EDGE_SE2_BEARING_RANGE") {
-        lp.ExpectCount(7, "i j bearing range Ibb Ibr Irr");
-        add_edge(EdgeKind::kSE2BearingRange, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
-                 false);
-      } else if (tag == "EDGE_SE2_OFFSET" || tag == "EDGE_SE3_OFFSET") {
-        const bool three = tag == "EDGE_SE3_OFFSET";
-        if (three) {
-          lp.ExpectCount(32, "i j p_from p_to dx dy dz qx qy qz qw I(21, upper triangle)");
-        } else {
-          lp.ExpectCount(13, "i j p_from p_to dx dy dtheta I(6, upper triangle)");
-        }
-        const int pa = lp.Id(3), pb = lp.Id(4);
-        Eigen::VectorXd oa = OffsetFor(g, lp, tag, pa, three ? 3 : 2, false);
-        Eigen::VectorXd ob = OffsetFor(g, lp, tag, pb, three ? 3 : 2, false);
-        Edge& e = add_edge(three ? EdgeKind::kSE3Offset : EdgeKind::kSE2Offset, lp.Id(1), lp.Id(2),
-                           three ? se3(5) : Eigen::VectorXd(se2(5)),
-                           lp.UpperTriangle(three ? 12 : 8, three ? 6 : 3), false, pa);
-        e.param_to = pb;
-        e.offset = std::move(oa);
-        e.offset_to = std::move(ob);
-      } else if (tag == "EDGE_PRIOR_SE2") {
-        lp.ExpectCount(10, "i x y theta I(6, upper triangle)");
-        const int i = lp.Id(1);
-        add_edge(EdgeKind::kSE2Prior, i, i, se2(2), lp.UpperTriangle(5, 3), false);
-      } else if (tag == "EDGE_SE3_PRIOR") {
-        lp.ExpectCount(30, "i p x y z qx qy qz qw I(21, upper triangle)");
-        const int i = lp.Id(1), param = lp.Id(2);
-        Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 3, false);
-        Edge& e =
-            add_edge(EdgeKind::kSE3Prior, i, i, se3(3), lp.UpperTriangle(10, 6), false, param);
-        e.offset = std::move(offset);
-      } else if (tag == "EDGE_PRIOR_SE2_XY" || tag == "EDGE_PRIOR_XY") {
-        lp.ExpectCount(6, "i x y I11 I12 I22");
-        const int i = lp.Id(1);
-        add_edge(tag == "EDGE_PRIOR_XY" ? EdgeKind::kPoint2Prior : EdgeKind::kSE2PositionPrior, i,
-                 i, vec(2, 2), lp.UpperTriangle(4, 2), false);
-      } else if (tag == "EDGE_SE3_XYZ_PRIOR") {
-        lp.ExpectCount(11, "i p x y z I(6, upper triangle)");
-        const int i = lp.Id(1), param = lp.Id(2);
-        // g2o's computeError ignores the offset; it must still exist.
-        OffsetFor(g, lp, tag, param, 3, false);
-        add_edge(EdgeKind::kSE3PositionPrior, i, i, vec(3, 3), lp.UpperTriangle(6, 3), false,
-                 param);
-      } else if (tag == "EDGE_POINTXYZ_PRIOR") {
-        lp.ExpectCount(10, "i x y z I(6, upper triangle)");
-        const int i = lp.Id(1);
-        add_edge(EdgeKind::kPoint3Prior, i, i, vec(2, 3), lp.UpperTriangle(5, 3), false);
-      } else if (tag == "EDGE_POINTXY") {
-        lp.ExpectCount(7, "i j dx dy I11 I12 I22");
-        add_edge(EdgeKind::kPoint2Point2, lp.Id(1), lp.Id(2), vec(3, 2), lp.UpperTriangle(5, 2),
-                 false);
-      } else if (tag == "EDGE_POINTXYZ") {
-        lp.ExpectCount(11, "i j dx dy dz I(6, upper triangle)");
-        add_edge(EdgeKind::kPoint3Point3, lp.Id(1), lp.Id(2), vec(3, 3), lp.UpperTriangle(6, 3),
-                 false);
-      } else if (tag == "EDGE_SE2_POINTXY_OFFSET") {
-        lp.ExpectCount(8, "i j p x y I11 I12 I22");
-        const int param = lp.Id(3);
-        Eigen::VectorXd offset = OffsetFor(g, lp, tag, param, 2, false);
-        Edge& e = add_edge(EdgeKind::kSE2Point2Offset, lp.Id(1), lp.Id(2), vec(4, 2),
-                           lp.UpperTriangle(6, 2), false, param);
-        e.offset = std::move(offset);
-      } else if (tag == "EDGE_BEARING_SE2_XY") {
-        lp.ExpectCount(4, "i j bearing I");
-        Eigen::VectorXd z(1);
-        z << WrapAngleExact(lp.Number(3));
-        add_edge(EdgeKind::kSE2Bearing, lp.Id(1), lp.Id(2), z, lp.UpperTriangle(4, 1), false);
-      } else if (tag == "FIX") {
-        if (lp.size() < 2) lp.Fail("FIX: no vertex id");
-        std::vector<int> ids;
-        for (size_t i = 1; i < lp.size(); ++i) ids.push_back(lp.Id(i));
-        g.fixed.push_back(ids);
-        fix_lines.push_back(line);
-        g.order.push_back({Graph::RecordType::kFix, static_cast<int>(g.fixed.size()) - 1});
-      } else if (tag == "EQUIV") {
-        lp.ExpectCount(2, "i j");
-        const int a = lp.Id(1), b = lp.Id(2);
-        if (a == b) lp.Fail("EQUIV: a vertex with itself");
-        // Resolved once every edge is read (the edge between them may follow).
-        equivs.push_back({a, b, line, g.order.size()});
-        g.order.push_back({Graph::RecordType::kEdge, -1});
-        ++rep.equiv;
-      } else if (tag == "PARAMS_SE3OFFSET") {
-        lp.ExpectCount(8, "id x y z qx qy qz qw");
-        define_offset(lp.Id(1), se3(2));
-      } else if (tag == "PARAMS_SE2OFFSET") {
-        lp.ExpectCount(4, "id x y theta");
-        define_offset(lp.Id(1), se2(2));
-      } else if (options.skip_unknown_tags) {
-        ++rep.unknown_skipped;
-        ++rep.unknown_tags[Escaped(tag)];
-      } else {
-        lp.Fail("unknown tag '" + Escaped(tag) + "' (skip unknown tags explicitly to ignore it)");
-      }
-    }
-  }
-  rep.lines = line;
-
-  // EQUIV i j → a tight edge i → j with the measurement of the (first) edge
-  // between them, oriented i → j, else the identity.
-  for (const Equiv& q : equivs) {
+// EQUIV i j → a tight edge i → j with the measurement of the (first) edge
+// between them, oriented i → j, else the identity.
+void ResolveEquivs(GraphBuilder& b, const std::string& name) {
+  Graph& g = b.graph;
+  for (const GraphBuilder::Equiv& q : b.equivs) {
     if (g.dimension == 0) throw ParseError(name, q.line, "EQUIV in a file without poses");
     const bool three = g.dimension == 3;
     Edge e;
@@ -862,9 +266,14 @@ Graph ParseText(std::string_view text, const std::string& name, const ReadOption
     g.order[q.record].index = static_cast<int>(g.edges.size());
     g.edges.push_back(std::move(e));
   }
+}
 
-  // Edges must name existing vertices, unless the file has no vertex at all.
-  if (!any_vertex_line) {
+// A file without VERTEX lines: the ends of its edges become vertices without
+// an estimate (the initialisation places them), written first, sorted by id.
+// Otherwise edges must name existing vertices (CheckReferences).
+void CreateMissingVertices(GraphBuilder& b, const std::string& name) {
+  Graph& g = b.graph;
+  if (!b.any_vertex_line) {
     g.estimates_from_file = false;
     for (const Edge& e : g.edges) {
       if (!InitialisableWithoutVertices(e.kind)) {
@@ -907,6 +316,11 @@ Graph ParseText(std::string_view text, const std::string& name, const ReadOption
     order.insert(order.end(), g.order.begin(), g.order.end());
     g.order = std::move(order);
   }
+}
+
+// Every edge names vertices of its kinds, every FIX an existing vertex.
+void CheckReferences(GraphBuilder& b, const std::string& name) {
+  Graph& g = b.graph;
   for (const Edge& e : g.edges) {
     VertexKind ends[2];
     for (int k = 0; k < 2; ++k) {
@@ -927,11 +341,74 @@ Graph ParseText(std::string_view text, const std::string& name, const ReadOption
   for (size_t f = 0; f < g.fixed.size(); ++f) {
     for (int id : g.fixed[f]) {
       if (!g.index_of.count(id) && !g.landmark_index_of.count(id)) {
-        throw ParseError(name, fix_lines[f], "FIX of a missing vertex " + std::to_string(id));
+        throw ParseError(name, b.fix_lines[f], "FIX of a missing vertex " + std::to_string(id));
       }
     }
   }
-  return g;
+}
+
+Graph ParseText(std::string_view text, const std::string& name, const ReadOptions& options,
+                ReadReport* report) {
+  ReadReport local;
+  ReadReport& rep = report ? *report : local;
+  rep = ReadReport();
+  GraphBuilder b(name, options, &rep);
+  Graph& g = b.graph;
+  const char* const begin = text.data();
+  const char* const end = begin + text.size();
+  {  // the edges' and records' storage at once (no regrowth: its copies raise the peak memory)
+    size_t lines = 0, edges = 0, vertices = 0;
+    for (const char* q = begin; q < end; ++lines) {
+      if (*q == 'E') ++edges;  // EDGE…, EQUIV
+      if (*q == 'V') ++vertices;
+      const char* eol = static_cast<const char*>(std::memchr(q, '\n', end - q));
+      q = eol ? eol + 1 : end;
+    }
+    g.edges.reserve(edges);
+    g.vertices.reserve(vertices);
+    g.index_of.reserve(vertices);  // rehashing a million ids cost a tenth of the reading
+    g.order.reserve(lines);
+  }
+  int& line = b.line;
+  const int progress_every = std::max(1, options.progress_lines);
+  const std::vector<const char*> cuts = detail::BlockCuts(begin, end);
+  const size_t num_blocks = cuts.size() - 1;
+  // One block converted ahead on another thread, when there is one (a
+  // deferred launch converts it on this thread at get(); with both flags a
+  // thread that cannot be started falls back to that).
+  const auto policy = num_blocks > 1 && std::thread::hardware_concurrency() > 1
+                          ? std::launch::async | std::launch::deferred
+                          : std::launch::deferred;
+  const auto convert = [&](size_t k) {
+    return std::async(policy, detail::ConvertBlock, cuts[k], cuts[k + 1]);
+  };
+  std::future<detail::ConvertedBlock> ahead;
+  if (num_blocks > 0) ahead = convert(0);
+  for (size_t block_index = 0; block_index < num_blocks; ++block_index) {
+    const detail::ConvertedBlock block = ahead.get();
+    if (block_index + 1 < num_blocks) ahead = convert(block_index + 1);
+    for (const detail::LineView& view : block.lines) {
+      ++line;
+      if (options.on_progress && line % progress_every == 0) {
+        options.on_progress(
+            {line, static_cast<size_t>(std::min(view.end + 1, end) - begin), text.size()});
+      }
+      if (view.fields == 0) continue;
+      const LineParser lp(name, line, view, block.numbers.data() + view.numbers);
+      if (detail::ReadRecord(b, lp)) continue;
+      const std::string tag = Escaped(lp.Tag());
+      if (!options.skip_unknown_tags) {
+        lp.Fail("unknown tag '" + tag + "' (skip unknown tags explicitly to ignore it)");
+      }
+      ++rep.unknown_skipped;
+      ++rep.unknown_tags[tag];
+    }
+  }
+  rep.lines = line;
+  ResolveEquivs(b, name);
+  CreateMissingVertices(b, name);
+  CheckReferences(b, name);
+  return std::move(b.graph);
 }
 
 }  // namespace

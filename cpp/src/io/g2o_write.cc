@@ -1,5 +1,5 @@
 // Writing a pose-graph file: every record in its original order, ids and tag
-// family (io/g2o.h).
+// family (io/g2o.h); the tags from the one tag table (g2o_tags.cc).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -63,20 +63,8 @@ std::string FormatG2o(const Graph& g) {
       case Graph::RecordType::kVertex: {
         const Vertex& v = g.vertices[rec.index];
         const Eigen::VectorXd& x = v.estimate;
-        switch (v.kind) {
-          case VertexKind::kSE2:
-            out += v.toro ? "VERTEX2 " : "VERTEX_SE2 ";
-            break;
-          case VertexKind::kSE3:
-            out += v.toro ? "VERTEX3 " : "VERTEX_SE3:QUAT ";
-            break;
-          case VertexKind::kPoint2:
-            out += "VERTEX_XY ";
-            break;
-          case VertexKind::kPoint3:
-            out += "VERTEX_TRACKXYZ ";
-            break;
-        }
+        out += WrittenTag(v.kind, v.toro);
+        out += ' ';
         out += std::to_string(v.id);
         if (v.kind == VertexKind::kSE3 && v.toro) {
           for (int i = 0; i < 3; ++i) Num(&out, x[i]);
@@ -95,60 +83,8 @@ std::string FormatG2o(const Graph& g) {
           out += "EQUIV " + std::to_string(e.from) + " " + std::to_string(e.to) + "\n";
           break;
         }
-        switch (e.kind) {
-          case EdgeKind::kSE2:
-            out += e.toro ? "EDGE2 " : "EDGE_SE2 ";
-            break;
-          case EdgeKind::kSE3:
-            out += e.toro ? "EDGE3 " : "EDGE_SE3:QUAT ";
-            break;
-          case EdgeKind::kSE2Point2:
-            out += e.toro ? "LANDMARK2 " : "EDGE_SE2_XY ";
-            break;
-          case EdgeKind::kSE3Point3:
-          case EdgeKind::kSE3Point3Offset:
-            out += "EDGE_SE3_TRACKXYZ ";
-            break;
-          case EdgeKind::kSE2BearingRange:
-            out += "EDGE_SE2_BEARING_RANGE ";
-            break;
-          case EdgeKind::kSE2Offset:
-            out += "EDGE_SE2_OFFSET ";
-            break;
-          case EdgeKind::kSE3Offset:
-            out += "EDGE_SE3_OFFSET ";
-            break;
-          case EdgeKind::kSE2Prior:
-            out += "EDGE_PRIOR_SE2 ";
-            break;
-          case EdgeKind::kSE3Prior:
-            out += "EDGE_SE3_PRIOR ";
-            break;
-          case EdgeKind::kSE2PositionPrior:
-            out += "EDGE_PRIOR_SE2_XY ";
-            break;
-          case EdgeKind::kSE3PositionPrior:
-            out += "EDGE_SE3_XYZ_PRIOR ";
-            break;
-          case EdgeKind::kPoint2Prior:
-            out += "EDGE_PRIOR_XY ";
-            break;
-          case EdgeKind::kPoint3Prior:
-            out += "EDGE_POINTXYZ_PRIOR ";
-            break;
-          case EdgeKind::kPoint2Point2:
-            out += "EDGE_POINTXY ";
-            break;
-          case EdgeKind::kPoint3Point3:
-            out += "EDGE_POINTXYZ ";
-            break;
-          case EdgeKind::kSE2Point2Offset:
-            out += "EDGE_SE2_POINTXY_OFFSET ";
-            break;
-          case EdgeKind::kSE2Bearing:
-            out += "EDGE_BEARING_SE2_XY ";
-            break;
-        }
+        out += WrittenTag(e.kind, e.toro);
+        out += ' ';
         out += std::to_string(e.from);
         if (!IsUnary(e.kind)) out += " " + std::to_string(e.to);
         switch (e.kind) {

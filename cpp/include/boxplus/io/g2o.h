@@ -240,6 +240,22 @@ std::string FormatG2o(const Graph& graph);
 // Whether an edge of this kind connects vertices of kinds a → b.
 bool ConnectsKinds(EdgeKind edge, VertexKind a, VertexKind b);
 
+// The record tags the reader accepts, from one table (g2o_tags.cc) that also
+// gives the writer its tags, boxplus-g2o --list-types its list and the fuzzer
+// its tags: a tag, the format it comes from, and the numbers after it.
+enum class TagFamily { kG2o, kBoxplus, kToro, kGtsam };
+struct TagInfo {
+  std::string tag;
+  TagFamily family;
+  std::string fields;  // e.g. "id x y theta"
+};
+std::vector<TagInfo> RecordTags();
+const char* ToString(TagFamily family);
+// The tag FormatG2o writes a record of this kind under (toro: the record was
+// read from a TORO or GTSAM line, Vertex/Edge::toro).
+const char* WrittenTag(VertexKind kind, bool toro);
+const char* WrittenTag(EdgeKind kind, bool toro);
+
 // Text with every byte outside printable ASCII written as \xNN: what error
 // messages quote from a file (which may hold any bytes) stays valid text.
 std::string Escaped(const std::string& text);

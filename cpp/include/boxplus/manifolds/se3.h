@@ -8,7 +8,7 @@
 // δp is in the parent frame, δθ in the body frame. A covariance of an SE3 is
 // read in this tangent space, in this order. The pose maps local points to
 // the parent frame: fromlocal(v) = R v + p (so a camera pose named
-// cam_to_world maps p_in_cam to p_in_world).
+// world_from_cam maps p_in_cam to p_in_world).
 #pragma once
 
 #include <Eigen/Core>
