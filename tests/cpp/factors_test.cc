@@ -128,17 +128,18 @@ TEST(BoardFactor, JacobiansAndEqualsStackedPoints) {
     Pose world_from_rig = RandomPose(rng);
     world_from_rig.head<3>() << 0.5, 0.5, -5;  // the camera 5 units in front of the board
     const Pose cam_from_rig = RandomPose(rng, 0.1);
-    auto board = MakePinholeBoardFactor(model, z, W2(), p);
+    auto board = MakeBoardFactor(model, z, W2(), p);
     std::vector<Block> blocks = {
         {Intrinsics(model), false}, {world_from_rig, true}, {cam_from_rig, true}};
     ExpectJacobiansMatch(*board, blocks);
     const Eigen::VectorXd r = Eval(*board, blocks);
     for (int j = 0; j < 4; ++j) {
-      auto point = MakePinholePointFactor(model, z.row(j).transpose(), W2(), p.row(j).transpose());
+      auto point =
+          MakePointProjectionFactor(model, z.row(j).transpose(), W2(), p.row(j).transpose());
       EXPECT_LT((Eval(*point, blocks) - r.segment<2>(2 * j)).norm(), 1e-9) << model;
     }
   }
-  EXPECT_THROW(MakePinholeBoardFactor("fisheye", {}, W2(), {}), Error);
+  EXPECT_THROW(MakeBoardFactor("fisheye", {}, W2(), {}), Error);
 }
 
 TEST(MarkerFactor, KnownKinematicsJacobians) {
@@ -363,10 +364,10 @@ TEST(SensorFactors, NoiseInAllFormsGivesTheSameCost) {
   const std::vector<Case> cases = {
       {"point", 2,
        [&](const NoiseModel& n) {
-         return MakePinholePointFactor("opencv5", z.row(0).transpose(), n, p.row(0).transpose());
+         return MakePointProjectionFactor("opencv5", z.row(0).transpose(), n, p.row(0).transpose());
        },
        camera},
-      {"board", 2, [&](const NoiseModel& n) { return MakePinholeBoardFactor("opencv5", z, n, p); },
+      {"board", 2, [&](const NoiseModel& n) { return MakeBoardFactor("opencv5", z, n, p); },
        camera},
       {"marker", 2,
        [&](const NoiseModel& n) {

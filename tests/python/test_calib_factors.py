@@ -186,3 +186,28 @@ def test_noise_keywords_give_one_model_and_errors_are_in_pixels():
         add_board(o, z, k, pose, ident, p, sigma=0.5, covariance=S)
     with pytest.raises(ValueError, match="noise of dimension 3"):
         add_disparity(o, 1.0, pose, ident, k, p[0], noise=bp.NoiseModel.unit(3))
+
+
+def test_a_term_takes_the_model_its_camera_was_added_with():
+    # add_camera labels the intrinsics with the model's parameters; add_board and
+    # add_projection without model= take that model, with it they take the one given,
+    # and an unlabelled variable of the wrong size is named with the hint.
+    from boxplus.calib import add_camera
+    from boxplus.calib.models import project
+
+    o = bp.OptimizationProblem()
+    K = np.array([[300.0, 0, 320], [0, 300.0, 240], [0, 0, 1]])
+    fish = add_camera(o, "fish", K, "kannala_brandt", dist=[0.01, -0.002, 0.0, 0.0])
+    pose = o.add_random_var(bp.SE3(t=[0.0, 0.0, -1.0]), fixed=True)
+    ident = o.add_random_var(bp.SE3(), fixed=True)
+    p = np.array([[0.3, -0.2, 0.0], [0.1, 0.4, 0.0], [-0.5, 0.1, 0.0]])
+    z = project(o[fish].vec, p - [0.0, 0.0, -1.0], "kannala_brandt")
+    m = add_board(o, z, fish, pose, ident, p)
+    assert np.allclose(o.residual(m), 0.0, atol=1e-9)
+    assert "board[kannala_brandt]" in o.rms()
+    q = add_projection(o, z[0], fish, pose, ident, p[0])
+    assert np.allclose(o.residual(q), 0.0, atol=1e-9)
+    plain = o.add_random_var(bp.Rn(np.ones(4)))
+    with pytest.raises(ValueError, match="'opencv5' needs 9 intrinsics.*give the term's model="):
+        add_board(o, z, plain, pose, ident, p)
+    assert add_board(o, z, plain, pose, ident, p, model="pinhole") >= 0

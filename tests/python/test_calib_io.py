@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from boxplus import SE3, SO3
 from boxplus.calib import (
-    Camera,
+    CalibratedCamera,
     calibrate_stereo,
     read_camchain,
     read_camera_info,
@@ -37,8 +37,8 @@ def _rig(model):
         "pinhole": [520.1, 515.3, 322.2, 245.4],
     }
     k = np.array(ks[model]) + np.pi * 1e-7  # digits that need every bit
-    return [Camera("left", model, k, (640, 480)), Camera("right", model, k * 1.001, (640, 480), POSE),
-            Camera("third", model, k * 0.999, (640, 480), POSE2)]
+    return [CalibratedCamera("left", model, k, (640, 480)), CalibratedCamera("right", model, k * 1.001, (640, 480), POSE),
+            CalibratedCamera("third", model, k * 0.999, (640, 480), POSE2)]
 
 
 def _same(a, b, model=None):
@@ -96,7 +96,7 @@ def test_kalibr_radtan_round_trip_and_refusals(tmp_path):
     rig = _rig("opencv5")
     with pytest.raises(ValueError, match="camera 'left': Kalibr's radtan has k1 k2 p1 p2 only"):
         write_camchain(tmp_path / "x.yaml", rig)
-    rig = [Camera(c.name, c.model, np.r_[c.intrinsics[:8], 0.0], c.image_size, c.cam_from_ref)
+    rig = [CalibratedCamera(c.name, c.model, np.r_[c.intrinsics[:8], 0.0], c.image_size, c.cam_from_ref)
            for c in rig]
     write_camchain(tmp_path / "c.yaml", rig)
     _same(rig, read_camchain(tmp_path / "c.yaml"))
@@ -121,7 +121,7 @@ def test_bad_files_raise_naming_the_file(tmp_path):
     with pytest.raises(ValueError, match="not valid YAML"):
         read_camchain(p)
     with pytest.raises(ValueError, match="cannot be a YAML key prefix"):
-        write_opencv_yaml(tmp_path / "x.yml", [Camera("my cam", "pinhole", np.ones(4), (1, 1))])
+        write_opencv_yaml(tmp_path / "x.yml", [CalibratedCamera("my cam", "pinhole", np.ones(4), (1, 1))])
 
 
 def test_to_opencv_feeds_stereo_rectify_and_matches_opencv(tmp_path):

@@ -116,8 +116,8 @@ def _check_ros_stereo(left: dict, right: dict, cams: dict, tol_px: float = 1e-3)
 def test_opencv_files_rectify_as_opencv_reads_them(tmp_path, model, k):
     """The OpenCV YAML of a stereo pair read by cv2.FileStorage: M1 D1 M2 D2 R T R1 R2
     P1 P2 Q give rectified rows that agree and the right depth; the ROS pair too."""
-    left = io.Camera("left", model, k, (640, 480))
-    right = io.Camera("right", model, k * 1.002, (640, 480), RIGHT_FROM_LEFT)
+    left = io.CalibratedCamera("left", model, k, (640, 480))
+    right = io.CalibratedCamera("right", model, k * 1.002, (640, 480), RIGHT_FROM_LEFT)
     rect = rectify_stereo(left, right)
     io.write_opencv_yaml(tmp_path / "c.yml", [left, right], rect)
     fs = cv2.FileStorage(str(tmp_path / "c.yml"), cv2.FILE_STORAGE_READ)

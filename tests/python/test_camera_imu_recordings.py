@@ -63,7 +63,7 @@ def recording(tmp_path_factory):
         "target_type: 'checkerboard'\ntargetCols: 7\ntargetRows: 6\nrowSpacingMeters: 0.06\n"
         "colSpacingMeters: 0.06\n")
     io.write_opencv_yaml(folder / "calibration.yml",
-                         [io.Camera("cam0", "pinhole", K, (640, 480))])
+                         [io.CalibratedCamera("cam0", "pinhole", K, (640, 480))])
     return folder, data, truth
 
 

@@ -84,7 +84,7 @@ def test_yaml_readers_name_the_file_on_binary_junk(tmp_path, reader, junk):
 
 
 def test_calibration_writers_are_atomic(tmp_path, monkeypatch):
-    cam = io.Camera("left", "pinhole", [500.0, 500.0, 320.0, 240.0], (640, 480))
+    cam = io.CalibratedCamera("left", "pinhole", [500.0, 500.0, 320.0, 240.0], (640, 480))
     path = tmp_path / "calibration.yml"
     io.write_opencv_yaml(path, [cam])
     before = path.read_bytes()
@@ -94,7 +94,7 @@ def test_calibration_writers_are_atomic(tmp_path, monkeypatch):
 
     monkeypatch.setattr(os, "fsync", fail)
     with pytest.raises(OSError, match="calibration.yml"):
-        io.write_opencv_yaml(path, [io.Camera("left", "pinhole", [1.0, 1.0, 1.0, 1.0], (640, 480))])
+        io.write_opencv_yaml(path, [io.CalibratedCamera("left", "pinhole", [1.0, 1.0, 1.0, 1.0], (640, 480))])
     assert path.read_bytes() == before
 
 

@@ -127,8 +127,8 @@ def _small_rig(convention="standard", encoder=True, mount_unknown=True):
     rng = np.random.default_rng(3)
     table = NOMINAL_DH + rng.normal(0, 0.01, NOMINAL_DH.shape)
     rig = JointRig(root="arm")
-    rig.add_camera("cam1", K1)
-    rig.add_camera("cam2", K2)
+    rig.add_camera("cam1", K1, "simple_radial")
+    rig.add_camera("cam2", K2, "simple_radial")
     mount = bp.SE3(bp.SO3.exp([0.1, 0.2, 0.3]), [0.01, 0.02, 0.03])
     rig.add_system(DHArm("arm", table, convention, unknown=["d1", "a2", "alpha3", "theta4", "a3"],
                          prior_sigma=(0.003, 0.02), encoder_sigma=2e-4 if encoder else None, mount=mount,
@@ -236,8 +236,8 @@ def test_synthetic_rig_truth_fits_the_data_to_the_noise():
 def _restart_rig():
     data = make_rig(0, n_boards=2, n_planes=1, n_folds=2)
     rig2 = JointRig(root="arm")
-    rig2.add_camera("cam1", data.k_nominal)
-    rig2.add_camera("cam2", data.k_nominal)
+    rig2.add_camera("cam1", data.k_nominal, "simple_radial")
+    rig2.add_camera("cam2", data.k_nominal, "simple_radial")
     rig2.add_system(DHArm("arm", data.dh_nominal, unknown=["a2", "a3"], prior_sigma=(0.003, 0.02),
                           mount=data.end_from_board))
     rig2.add_system(Stereo("stereo", "cam1", "cam2", data.cam2_from_cam1), pose=data.arm_from_cam1)
@@ -264,8 +264,8 @@ def test_cross_validate_with_given_folds_and_an_executor_equals_serial():
 
     def fit(split, n_corners):
         rig = JointRig(root="arm")
-        rig.add_camera("cam1", data.k_nominal)
-        rig.add_camera("cam2", data.k_nominal)
+        rig.add_camera("cam1", data.k_nominal, "simple_radial")
+        rig.add_camera("cam2", data.k_nominal, "simple_radial")
         rig.add_system(DHArm("arm", data.dh_nominal, unknown=["a2", "a3", "d5"], prior_sigma=(0.003, 0.02),
                              mount=data.end_from_board))
         rig.add_system(Stereo("stereo", "cam1", "cam2", data.cam2_from_cam1), pose=data.arm_from_cam1)
@@ -340,8 +340,8 @@ def test_unknown_dh_parameters_the_data_cannot_determine_are_named():
     axis, which the stereo pair's pose absorbs: the degeneracy report names it."""
     data = make_rig(0, n_boards=3, n_planes=1, n_folds=3)
     rig = JointRig(root="arm")
-    rig.add_camera("cam1", data.k1_true, fixed=True)
-    rig.add_camera("cam2", data.k2_true, fixed=True)
+    rig.add_camera("cam1", data.k1_true, "simple_radial", fixed=True)
+    rig.add_camera("cam2", data.k2_true, "simple_radial", fixed=True)
     rig.add_system(DHArm("arm", data.dh_true, unknown=["theta1", "a2", "a3"], mount=data.end_from_board))
     rig.add_system(Stereo("stereo", "cam1", "cam2", data.cam2_from_cam1), pose=data.arm_from_cam1)
     rig.problem.fix(rig.ids["stereo.cam2_from_cam1"])
@@ -401,8 +401,8 @@ def test_target_projection_equals_one_projection_per_point():
 
 def _noise_free_rig(data, unknown, mount_unknown):
     rig = JointRig(root="arm")
-    rig.add_camera("cam1", data.k1_true, fixed=True)
-    rig.add_camera("cam2", data.k2_true, fixed=True)
+    rig.add_camera("cam1", data.k1_true, "simple_radial", fixed=True)
+    rig.add_camera("cam2", data.k2_true, "simple_radial", fixed=True)
     table = data.dh_true.copy()
     for lab in unknown:  # the other entries are known exactly
         j, c = int(lab[-1]) - 1, ("theta", "d", "a", "alpha").index(lab[:-1])
@@ -457,7 +457,7 @@ def test_beam_is_a_light_sheet_at_fixed_angle_and_hits_the_ray_plane_intersectio
 
     cam_from_laser = bp.SE3(bp.SO3.exp([0.02, 0.3, -0.01]), [0.25, -0.01, 0.03])
     rig = JointRig()
-    rig.add_camera("cam", K1)
+    rig.add_camera("cam", K1, "simple_radial")
     rig.add_system(Beam("beam", "cam", cam_from_laser))
     beta = 0.2
     n = cam_from_laser.R @ [np.cos(beta), 0.0, -np.sin(beta)]

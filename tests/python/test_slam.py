@@ -141,7 +141,7 @@ def test_extend_fix_solve_save_plot(tmp_path):
     # Extend from Python: a new pose with an odometry edge, a prior, a fixed vertex.
     g.add_vertex(3, "SE2", [3.0, 0.3, 0.2])
     g.add_edge("SE2", 2, 3, [1.0, 0.0, 0.0], np.diag([100.0, 100.0, 400.0]))
-    g.add_prior(3, [2.95, 0.35, 0.2], np.eye(3))
+    g.add_prior(3, [2.95, 0.35, 0.2], information=np.eye(3))
     g.fix(10)
     x10 = g.value(10).copy()
     s = g.solve()

@@ -90,7 +90,7 @@ def test_add_vertex_normalises_huge_quaternions_and_wraps_angles(tmp_path):
 def test_add_prior_with_non_pd_information_names_the_vertex(tmp_path):
     g = slam.load_g2o(_write(tmp_path, GRAPH_2D))
     with pytest.raises(ValueError, match="vertex 1"):
-        g.add_prior(1, [0, 0, 0], -np.eye(3))
+        g.add_prior(1, [0, 0, 0], information=-np.eye(3))
 
 
 # -- item 7: quaternions with huge components ----------------------------------

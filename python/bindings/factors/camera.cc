@@ -33,7 +33,7 @@ void RegisterCameraFactors(py::module_& m) {
       "point_projection_factor",
       [](const std::string& model, int intrinsics, int world_from_rig, int cam_from_rig,
          const Eigen::Vector2d& z, const NoiseModel& noise, const Eigen::Vector3d& p_in_world) {
-        return Factor{MakePinholePointFactor(model, z, noise, p_in_world),
+        return Factor{MakePointProjectionFactor(model, z, noise, p_in_world),
                       {intrinsics, world_from_rig, cam_from_rig},
                       noise};
       },
@@ -45,7 +45,7 @@ void RegisterCameraFactors(py::module_& m) {
       "board_factor",
       [](const std::string& model, int intrinsics, int world_from_rig, int cam_from_rig,
          const BoardPixels& z, const NoiseModel& noise, const BoardPoints& p_in_world) {
-        return Factor{MakePinholeBoardFactor(model, z, noise, p_in_world),
+        return Factor{MakeBoardFactor(model, z, noise, p_in_world),
                       {intrinsics, world_from_rig, cam_from_rig},
                       noise};
       },

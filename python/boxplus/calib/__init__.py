@@ -48,7 +48,7 @@ from boxplus.calib.init import (
     triangulate,
 )
 from boxplus.calib.io import (
-    Camera,
+    CalibratedCamera,
     read_camchain,
     read_camera_info,
     read_opencv_yaml,
@@ -82,7 +82,7 @@ __all__ = [
     "hand_eye_park", "homography", "init_camera", "intrinsics_from_homographies",
     "intrinsics_vector", "mean_pose", "pose_from_homography", "relative_pose_init", "report",
     "marker_hand_eye", "robot_world_hand_eye", "rotation_between", "triangulate",
-    "Camera", "DroppedCorner", "calibrate_rig", "read_camchain", "read_camera_info",
+    "CalibratedCamera", "DroppedCorner", "calibrate_rig", "read_camchain", "read_camera_info",
     "read_opencv_yaml", "to_opencv", "write_camchain", "write_camera_info", "write_opencv_yaml",
     "Target", "coverage", "parse_target", "projection_sigma", "projection_uncertainty",
     "add_board", "add_dh_marker", "add_disparity", "add_gravity", "add_marker", "add_projection",

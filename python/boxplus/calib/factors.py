@@ -28,6 +28,7 @@ import numpy as np
 
 from boxplus import _core
 from boxplus._journal import journalled
+from boxplus.calib.models import CAMERA_LABELS
 from boxplus.losses import LossSpec
 from boxplus.manifolds import SE3
 from boxplus.noise import NoiseModel, noise_model
@@ -62,7 +63,15 @@ def _pose(value: Any, keyword: str, what: str) -> np.ndarray:
     return value.ambient
 
 
-def _check_intrinsics(o: OptimizationProblem, intrinsics: int, model: str, what: str) -> None:
+def _camera_model(o: OptimizationProblem, intrinsics: int, model: str | None, what: str) -> str:
+    """The camera model of a term: the one given, else the one the intrinsics variable was
+    added with (:func:`boxplus.calib.add_camera` labels it with the model's parameters),
+    else OpenCV's ``opencv5`` (every ``add_camera``'s default); checked against the
+    variable's size."""
+    given = model is not None
+    if model is None:
+        labels = list(o.labels(int(intrinsics)))
+        model = next((m for m, names in CAMERA_LABELS.items() if list(names) == labels), "opencv5")
     try:
         size = _core.camera_model_size(model)
     except (ValueError, RuntimeError) as e:
@@ -70,7 +79,9 @@ def _check_intrinsics(o: OptimizationProblem, intrinsics: int, model: str, what:
     have = o.codec(intrinsics).ambient_size
     if have != size:
         raise ValueError(f"{what}: camera model '{model}' needs {size} intrinsics, variable "
-                         f"'{o.variable_name(int(intrinsics))}' has {have}")
+                         f"'{o.variable_name(int(intrinsics))}' has {have}"
+                         + ("" if given else " (give the term's model=)"))
+    return model
 
 
 # ---- camera ------------------------------------------------------------------------------
@@ -79,7 +90,7 @@ def add_projection(
     o: OptimizationProblem, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int,
     p_in_world: Any,
     sigma: Any = None, covariance: Any = None, information: Any = None,
-    noise: NoiseModel | None = None, model: str = "simple_radial", loss: LossSpec = None,
+    noise: NoiseModel | None = None, model: str | None = None, loss: LossSpec = None,
     name: str | None = None, group: str | None = None,
 ) -> int:
     """One known point seen by a camera (factors/camera/point_projection.h).
@@ -89,13 +100,14 @@ def add_projection(
     model's order (simple_radial: [f, cx, cy, k1]; pinhole: [fx, fy, cx, cy];
     radial2: + [k1, k2]; opencv5: + [k1, k2, p1, p2, k3]; rational: + [k1, k2, p1,
     p2, k3, k4, k5, k6]; kannala_brandt: + [k1, k2, k3, k4]; double_sphere: + [ξ, α];
-    :data:`boxplus.calib.models.CAMERA_LABELS`); ``world_from_rig``
+    :data:`boxplus.calib.models.CAMERA_LABELS`; by default the model the intrinsics
+    were added with, :func:`boxplus.calib.add_camera`, else ``opencv5``); ``world_from_rig``
     and ``cam_from_rig`` are SE3 variables. RMS reports group these as
     ``projection[model]``.
     """
     what = _what(o, name, "projection")
     ids = o.check_ids([intrinsics, world_from_rig, cam_from_rig], what)
-    _check_intrinsics(o, intrinsics, model, what)
+    model = _camera_model(o, intrinsics, model, what)
     nm = noise_model(2, sigma, covariance, information, noise, what)
     f = _core.point_projection_factor(model, ids[0], ids[1], ids[2], _vector(z, 2, "z", what), nm,
                                       _vector(p_in_world, 3, "p_in_world", what))
@@ -107,7 +119,7 @@ def add_board(
     o: OptimizationProblem, z: Any, intrinsics: int, world_from_rig: int, cam_from_rig: int,
     p_in_world: Any,
     sigma: Any = None, covariance: Any = None, information: Any = None,
-    noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+    noise: NoiseModel | None = None, model: str | None = None, loss: LossSpec = None,
     name: str | None = None, group: str | None = None,
 ) -> int:
     """All visible points of a board in one C++ factor (factors/camera/board.h).
@@ -115,7 +127,9 @@ def add_board(
     r_j = W (π(k, cam_from_rig · world_from_rig⁻¹ · p_in_world_j) − z_j);
     ``z`` (N, 2) pixels, ``p_in_world`` (N, 3) the same points in the board
     ("world") frame; the noise is that of one corner (2-dim), shared by the
-    points. ``model`` is any camera model (:data:`boxplus.calib.models.CAMERA_LABELS`).
+    points. ``model`` is any camera model (:data:`boxplus.calib.models.CAMERA_LABELS`; by
+    default the one the intrinsics were added with, :func:`boxplus.calib.add_camera`,
+    else ``opencv5``).
     ``group`` names the measurement group in RMS reports (default ``board[model]``).
     """
     what = _what(o, name, "board")
@@ -127,7 +141,7 @@ def add_board(
                          f"{zz.shape} and {pw.shape}")
     if not (np.all(np.isfinite(zz)) and np.all(np.isfinite(pw))):
         raise ValueError(f"{what}: non-finite points (an undetected board?)")
-    _check_intrinsics(o, intrinsics, model, what)
+    model = _camera_model(o, intrinsics, model, what)
     nm = noise_model(2, sigma, covariance, information, noise, what)
     f = _core.board_factor(model, ids[0], ids[1], ids[2], np.ascontiguousarray(zz), nm, np.ascontiguousarray(pw))
     return o.add_factor(f, loss, name, group or f"board[{model}]")
@@ -138,7 +152,7 @@ def add_board(
 def add_marker(
     o: OptimizationProblem, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
     base_from_hand: Any, sigma: Any = None, covariance: Any = None, information: Any = None,
-    noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+    noise: NoiseModel | None = None, model: str | None = None, loss: LossSpec = None,
     name: str | None = None, group: str | None = None,
 ) -> int:
     """A marker on a hand, ``base_from_hand`` (SE3) from forward kinematics
@@ -146,7 +160,7 @@ def add_marker(
     base_from_hand · p_in_hand) − z), z in pixels."""
     what = _what(o, name, "marker")
     ids = o.check_ids([intrinsics, base_from_rig, p_in_hand, cam_from_rig], what)
-    _check_intrinsics(o, intrinsics, model, what)
+    model = _camera_model(o, intrinsics, model, what)
     pose = _pose(base_from_hand, "base_from_hand", what)
     nm = noise_model(2, sigma, covariance, information, noise, what)
     f = _core.marker_factor(model, ids[0], ids[1], ids[2], ids[3], _vector(z, 2, "z", what), nm, pose)
@@ -158,7 +172,7 @@ def add_dh_marker(
     o: OptimizationProblem, z: Any, intrinsics: int, base_from_rig: int, p_in_hand: int, cam_from_rig: int,
     dh: int, joints: Any, base_from_chain: Any = None, flange_from_hand: Any = None,
     sigma: Any = None, covariance: Any = None, information: Any = None,
-    noise: NoiseModel | None = None, model: str = "opencv5", loss: LossSpec = None,
+    noise: NoiseModel | None = None, model: str | None = None, loss: LossSpec = None,
     name: str | None = None, group: str | None = None,
 ) -> int:
     """A marker through a DH chain with unknown link parameters ``dh`` (an Rn(4n)
@@ -167,7 +181,7 @@ def add_dh_marker(
     (factors/kinematics/marker.h, dh.h); the constant ends default to the identity."""
     what = _what(o, name, "DH marker")
     ids = o.check_ids([intrinsics, base_from_rig, p_in_hand, cam_from_rig, dh], what)
-    _check_intrinsics(o, intrinsics, model, what)
+    model = _camera_model(o, intrinsics, model, what)
     q = np.asarray(joints, float).reshape(-1)
     if o.codec(dh).ambient_size != 4 * len(q):
         raise ValueError(f"{what}: {len(q)} joint readings need a dh variable of {4 * len(q)} "

@@ -1,7 +1,7 @@
 """Calibration files: OpenCV ``FileStorage`` YAML, ROS ``camera_info`` YAML and
 Kalibr camchain YAML, written and read, and OpenCV's layout for rectification.
 
-A calibrated rig is a list of :class:`Camera`: name, model, intrinsics vector
+A calibrated rig is a list of :class:`CalibratedCamera`: name, model, intrinsics vector
 (:mod:`boxplus.calib.models`), image size and ``cam_from_ref``, the pose that
 maps points of the reference camera (the first one) into this camera.
 
@@ -53,13 +53,13 @@ from boxplus.calib.rectify import StereoRectification, rectify_stereo
 from boxplus.files import atomic_path, write_atomically
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["Camera", "read_camchain", "read_camera_info", "read_cameras", "read_opencv_yaml",
+__all__ = ["CalibratedCamera", "read_camchain", "read_camera_info", "read_cameras", "read_opencv_yaml",
            "to_opencv", "write_camchain", "write_camchain_imucam", "write_camera_info",
            "write_opencv_yaml", "write_stereo_camera_info", "write_yaml"]
 
 
 @dataclass
-class Camera:
+class CalibratedCamera:
     """One calibrated camera of a rig.
 
     ``intrinsics`` in the model's order (:data:`boxplus.calib.models.CAMERA_LABELS`),
@@ -91,7 +91,7 @@ class Camera:
         return camera_matrix(self.intrinsics, self.model)[1]
 
 
-def to_opencv(cameras: Sequence[Camera]) -> dict[str, Any]:
+def to_opencv(cameras: Sequence[CalibratedCamera]) -> dict[str, Any]:
     """OpenCV's layout of a rig: {name: {"K", "dist", "image_size", "R", "T"}} with R, T
     the rotation (3×3) and translation (3×1) of cam_from_ref; for two cameras also the
     top-level "K1", "D1", "K2", "D2", "R", "T", "image_size" that ``cv2.stereoRectify``
@@ -127,7 +127,7 @@ def _check_name(name: str) -> None:
                          f"and '_', not starting with a digit")
 
 
-def write_opencv_yaml(path: str | Path, cameras: Sequence[Camera],
+def write_opencv_yaml(path: str | Path, cameras: Sequence[CalibratedCamera],
                       rectification: StereoRectification | None = None) -> None:
     """Writes the rig as OpenCV FileStorage YAML (through ``cv2.FileStorage`` when OpenCV is
     installed); a stereo pair's ``rectification`` adds ``M1 D1 M2 D2 R T R1 R2 P1 P2 Q``."""
@@ -189,7 +189,7 @@ def _filestorage_text(entries: list[tuple[str, Any]]) -> str:
     return "".join(lines)
 
 
-def _ros_model(c: Camera) -> str:
+def _ros_model(c: CalibratedCamera) -> str:
     if c.model == "rational":
         return "rational_polynomial"
     if c.model == "kannala_brandt":
@@ -200,7 +200,7 @@ def _ros_model(c: Camera) -> str:
     return "plumb_bob"
 
 
-def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = None,
+def write_camera_info(path: str | Path, camera: CalibratedCamera, R: np.ndarray | None = None,
                       P: np.ndarray | None = None) -> None:
     """Writes one camera as a ROS ``camera_info`` YAML; ``R`` (3×3) and ``P`` (3×4) are the
     rectification and projection (a stereo pair's ``R1``/``P1`` or ``R2``/``P2`` from
@@ -219,8 +219,8 @@ def write_camera_info(path: str | Path, camera: Camera, R: np.ndarray | None = N
     write_yaml(path, doc)
 
 
-def write_stereo_camera_info(left_path: str | Path, right_path: str | Path, left: Camera,
-                             right: Camera, rectification: StereoRectification | None = None) -> None:
+def write_stereo_camera_info(left_path: str | Path, right_path: str | Path, left: CalibratedCamera,
+                             right: CalibratedCamera, rectification: StereoRectification | None = None) -> None:
     """The two ``camera_info`` files of a stereo pair with its rectification (computed
     here unless given): what ``stereo_image_proc`` needs to see the baseline."""
     r = rectification if rectification is not None else rectify_stereo(left, right)
@@ -263,7 +263,7 @@ def _scalar(x: Any) -> str:
     return _num(x) if isinstance(x, float) else str(x)
 
 
-def _kalibr_entry(c: Camera) -> tuple[str, list[float], str, list[float]]:
+def _kalibr_entry(c: CalibratedCamera) -> tuple[str, list[float], str, list[float]]:
     """(camera_model, intrinsics, distortion_model, distortion_coeffs) in Kalibr's terms."""
     K, d = c.K, c.dist
     pin = [K[0, 0], K[1, 1], K[0, 2], K[1, 2]]
@@ -286,7 +286,7 @@ def _flow(v: Sequence[float]) -> str:
     return "[" + ", ".join(_num(x) for x in v) + "]"
 
 
-def write_camchain(path: str | Path, cameras: Sequence[Camera],
+def write_camchain(path: str | Path, cameras: Sequence[CalibratedCamera],
                    topics: Sequence[str] | None = None,
                    overlaps: Sequence[Sequence[int]] | None = None) -> None:
     """Writes the rig as a Kalibr camchain YAML (cam0 = the first camera); ``overlaps[i]``
@@ -308,7 +308,7 @@ def write_camchain(path: str | Path, cameras: Sequence[Camera],
     write_yaml(path, doc)
 
 
-def write_camchain_imucam(path: str | Path, camera: Camera, cam_from_imu: SE3,
+def write_camchain_imucam(path: str | Path, camera: CalibratedCamera, cam_from_imu: SE3,
                           timeshift: float, topic: str | None = None) -> None:
     """Writes a camera–IMU calibration as Kalibr's ``camchain-imucam.yaml``: the camera's
     entry plus ``T_cam_imu`` (cam_from_imu: IMU coordinates into camera coordinates,
@@ -411,7 +411,7 @@ def _load_filestorage(path: str | Path) -> dict:
     return doc
 
 
-def read_opencv_yaml(path: str | Path) -> list[Camera]:
+def read_opencv_yaml(path: str | Path) -> list[CalibratedCamera]:
     """The rig of a file written by :func:`write_opencv_yaml` (or by hand in that layout),
     read by ``cv2.FileStorage`` (PyYAML when OpenCV is absent)."""
     try:
@@ -435,7 +435,7 @@ def read_opencv_yaml(path: str | Path) -> list[Camera]:
         if i > 0:
             pose = _pose(_matrix(doc, f"{n}_R", path, (3, 3)), _matrix(doc, f"{n}_T", path, (3, 1)),
                          f"{path}: {n}_R")
-        out.append(Camera(str(n), model, k, size, pose))
+        out.append(CalibratedCamera(str(n), model, k, size, pose))
     return out
 
 
@@ -443,7 +443,7 @@ _ROS_MODELS = {"plumb_bob": "opencv5", "rational_polynomial": "rational",
                "equidistant": "kannala_brandt"}
 
 
-def read_camera_info(path: str | Path) -> Camera:
+def read_camera_info(path: str | Path) -> CalibratedCamera:
     """One camera from a ROS ``camera_info`` YAML (plumb_bob, rational_polynomial or
     equidistant)."""
     doc = _load(path)
@@ -458,13 +458,13 @@ def read_camera_info(path: str | Path) -> Camera:
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     size = (int(_get(doc, "image_width", path)), int(_get(doc, "image_height", path)))
-    return Camera(str(doc.get("camera_name", "camera")), model, k, size)
+    return CalibratedCamera(str(doc.get("camera_name", "camera")), model, k, size)
 
 
-def read_camchain(path: str | Path) -> list[Camera]:
+def read_camchain(path: str | Path) -> list[CalibratedCamera]:
     """The rig of a Kalibr camchain YAML (pinhole with none / radtan / equidistant, and ds)."""
     doc = _load(path)
-    out: list[Camera] = []
+    out: list[CalibratedCamera] = []
     i = 0
     while f"cam{i}" in doc:
         c = doc[f"cam{i}"]
@@ -496,14 +496,14 @@ def read_camchain(path: str | Path) -> list[Camera]:
                 raise ValueError(f"{what}: T_cn_cnm1 must be 4×4, got {T.shape}")
             pose = _pose(T[:3, :3], T[:3, 3], f"{what}: T_cn_cnm1") * out[-1].cam_from_ref
         name = str(c.get("rostopic", f"cam{i}")).strip("/").split("/")[0] or f"cam{i}"
-        out.append(Camera(name, model, k, (int(res[0]), int(res[1])), pose))
+        out.append(CalibratedCamera(name, model, k, (int(res[0]), int(res[1])), pose))
         i += 1
     if not out:
         raise ValueError(f"{path}: no cam0 entry (not a Kalibr camchain)")
     return out
 
 
-def read_cameras(path: str | Path) -> list[Camera]:
+def read_cameras(path: str | Path) -> list[CalibratedCamera]:
     """The cameras of a calibration file in any of the formats boxplus writes: OpenCV
     YAML, a Kalibr camchain (also camchain-imucam) or a ROS camera_info; a ValueError
     naming the file when it is none of them."""

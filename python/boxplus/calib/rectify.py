@@ -62,7 +62,7 @@ class StereoRectification:
 
 
 def rectify_stereo(left: Any, right: Any, alpha: float = 0.0) -> StereoRectification:
-    """The rectification of two :class:`boxplus.calib.io.Camera` (``right.cam_from_ref``
+    """The rectification of two :class:`boxplus.calib.io.CalibratedCamera` (``right.cam_from_ref``
     relative to ``left.cam_from_ref``); ``alpha`` as in ``cv2.stereoRectify`` (0: only
     valid pixels, 1: all pixels; ROS' default 0)."""
     cv2 = require("cv2", "stereo rectification")

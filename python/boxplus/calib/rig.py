@@ -35,7 +35,7 @@ from boxplus.calib.init import (
     mean_pose,
     relative_pose_init,
 )
-from boxplus.calib.io import Camera, to_opencv
+from boxplus.calib.io import CalibratedCamera, to_opencv
 from boxplus.calib.models import model_labels
 from boxplus.manifolds import SE3, Rn
 
@@ -194,13 +194,13 @@ class Calibration:
             self._reports[key] = report(self.problem, rescale=rescale)
         return self._reports[key]
 
-    def cameras(self) -> list[Camera]:
-        """The rig as :class:`boxplus.calib.io.Camera` values (reference first), for the
+    def cameras(self) -> list[CalibratedCamera]:
+        """The rig as :class:`boxplus.calib.io.CalibratedCamera` values (reference first), for the
         file writers of :mod:`boxplus.calib.io`."""
         out = []
         for name in self.view_ids:
             pose = SE3() if name == self.reference else self.problem[self.ids[f"{name}_from_{self.reference}"]]
-            out.append(Camera(name, self.models.get(name, self.model), self.problem[self.ids[name]].vec,
+            out.append(CalibratedCamera(name, self.models.get(name, self.model), self.problem[self.ids[name]].vec,
                               self.image_size[name], pose))
         return out
 

@@ -53,6 +53,7 @@ import numpy as np
 from boxplus import _core
 from boxplus._journal import journalled
 from boxplus._plain import fields_todict
+from boxplus.calib.models import CAMERA_LABELS
 from boxplus.joint.constraints import Line, Plane, fit_line, fit_plane
 from boxplus.joint.geometry import dh_pose, plane_in, sheet_points, triangulate
 from boxplus.losses import LossSpec
@@ -262,7 +263,8 @@ class JointRig:
     Examples
     --------
     >>> rig = JointRig()
-    >>> rig.add_camera("cam1", [600, 320, 240, 0]); rig.add_camera("cam2", [600, 320, 240, 0])
+    >>> rig.add_camera("cam1", [600, 320, 240, 0], "simple_radial")
+    >>> rig.add_camera("cam2", [600, 320, 240, 0], "simple_radial")
     >>> rig.add_system(DHArm("arm", table, unknown="all", prior_sigma=(0.003, 0.02)))
     >>> rig.add_system(Stereo("stereo", "cam1", "cam2", SE3(...)), pose=SE3(...))
     >>> x = rig.stereo_point("stereo", z1, z2, sigma=0.3)
@@ -305,12 +307,14 @@ class JointRig:
         # its own RMS group: priors of different sizes cannot share one
         self.problem.add_prior(vid, z, sigma=sigma, name=name, group=name.split("[")[0])
 
-    def add_camera(self, name: str, intrinsics: Any, model: str = "simple_radial", fixed: bool = False,
+    def add_camera(self, name: str, intrinsics: Any, model: str = "opencv5", fixed: bool = False,
                    prior_sigma: Any = None) -> int:
-        """A camera's intrinsics variable (``camera_model_size(model)`` numbers); returns its id.
+        """A camera's intrinsics variable (``camera_model_size(model)`` numbers, labelled
+        as :func:`boxplus.calib.add_camera` labels them); returns its id.
 
         ``model``: any model of :mod:`boxplus.calib.models` (the Brown–Conrady family,
-        ``rational``, ``kannala_brandt``, ``double_sphere``), in its order."""
+        ``rational``, ``kannala_brandt``, ``double_sphere``), in its order; the default is
+        every ``add_camera``'s, OpenCV's ``opencv5``."""
         if name in self.cameras:
             raise ValueError(f"camera '{name}' exists already")
         k = np.asarray(intrinsics.vec if isinstance(intrinsics, Rn) else intrinsics, dtype=float).ravel()
@@ -320,7 +324,7 @@ class JointRig:
             raise ValueError(f"camera '{name}': {e}") from None
         if k.size != size:
             raise ValueError(f"camera '{name}': model '{model}' needs {size} intrinsics, got {k.size}")
-        vid = self._var(name, Rn(k), fixed=fixed)
+        vid = self._var(name, Rn(k), fixed=fixed, labels=CAMERA_LABELS[model])
         if prior_sigma is not None:
             self._prior(vid, Rn(k), prior_sigma, f"prior:{name}")
         self.cameras[name] = (vid, model)

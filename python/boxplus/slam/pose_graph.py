@@ -88,16 +88,20 @@ class PoseGraph(_core.PoseGraph):
             np.asarray(information, float),
         )
 
-    def add_prior(self, vertex_id: int, value, information) -> int:
-        """Adds a prior ``U (x ⊟ z)`` with ``UᵀU = information`` (tangent order)."""
+    def add_prior(self, vertex_id: int, z: Any, sigma: Any = None, covariance: Any = None,
+                  information: Any = None, noise: _core.NoiseModel | None = None) -> int:
+        """Adds a prior ``W (x ⊟ z)`` on a vertex, ``z`` its ambient value (as in the file),
+        the noise in the tangent order ([translation, rotation]) with the vocabulary of
+        every ``add_*`` (:mod:`boxplus.noise`: ``sigma``, ``covariance``,
+        ``information`` or ``noise``; as :meth:`boxplus.OptimizationProblem.add_prior`)."""
         from boxplus.noise import noise_model
 
         vid = self.variable(vertex_id)
-        info = np.asarray(information, float)
-        noise = noise_model(info.shape[0] if info.ndim == 2 else -1, information=info,
-                            what=f"prior on vertex {vertex_id}")
         what = f"prior on vertex {vertex_id}"
-        factor = _core.prior_factor(self.problem, vid, np.asarray(value, float), noise, what)
+        ambient = len(np.asarray(self.problem.value(vid)))
+        dof = {3: 3, 7: 6, 2: 2}.get(ambient, ambient)  # SE2, SE3 (quaternion), points
+        nm = noise_model(dof, sigma, covariance, information, noise, what)
+        factor = _core.prior_factor(self.problem, vid, np.asarray(z, float), nm, what)
         return self.problem.add_factor(factor, name=what)
 
     # -- solving and results ------------------------------------------------

@@ -11,7 +11,7 @@
 // this camera (identity, fixed, for mono; right_from_left for the right camera
 // of a stereo rig). Units: the board's (points) and pixels (z).
 //
-// The same measurements as N PinholePointFunctor factors (point_projection.h),
+// The same measurements as N PointProjectionFunctor factors (point_projection.h),
 // in one residual block: one autodiff pass per board, and a partial view passes
 // only the visible points (the vertical-baseline rig).
 #pragma once
@@ -29,9 +29,9 @@ using BoardPixels = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
 using BoardPoints = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 template <class Model>
-class PinholeBoardFunctor {
+class BoardFunctor {
  public:
-  PinholeBoardFunctor(const BoardPixels& z, const Eigen::Matrix2d& W, const BoardPoints& p_in_world)
+  BoardFunctor(const BoardPixels& z, const Eigen::Matrix2d& W, const BoardPoints& p_in_world)
       : z_(z), W_(W), p_in_world_(p_in_world) {}
 
   template <typename T>
@@ -48,8 +48,8 @@ class PinholeBoardFunctor {
   static std::shared_ptr<ceres::CostFunction> Create(const BoardPixels& z, const Eigen::Matrix2d& W,
                                                      const BoardPoints& p_in_world) {
     return std::make_shared<
-        ceres::AutoDiffCostFunction<PinholeBoardFunctor, ceres::DYNAMIC, Model::kSize, 7, 7>>(
-        new PinholeBoardFunctor(z, W, p_in_world), 2 * static_cast<int>(z.rows()));
+        ceres::AutoDiffCostFunction<BoardFunctor, ceres::DYNAMIC, Model::kSize, 7, 7>>(
+        new BoardFunctor(z, W, p_in_world), 2 * static_cast<int>(z.rows()));
   }
 
  private:
@@ -61,9 +61,8 @@ class PinholeBoardFunctor {
 // The board factor for a camera model named at run time; `noise` of dimension
 // 2 (one corner, pixels). Checks that z and p_in_world have the same number
 // (≥ 1) of rows and are finite. Throws boxplus::Error.
-std::shared_ptr<ceres::CostFunction> MakePinholeBoardFactor(const std::string& model,
-                                                            const BoardPixels& z,
-                                                            const NoiseModel& noise,
-                                                            const BoardPoints& p_in_world);
+std::shared_ptr<ceres::CostFunction> MakeBoardFactor(const std::string& model, const BoardPixels& z,
+                                                     const NoiseModel& noise,
+                                                     const BoardPoints& p_in_world);
 
 }  // namespace boxplus

@@ -38,10 +38,10 @@ void ProjectionResidual(const T* k, const T* p_in_cam, const double* z, const Ei
 }  // namespace camera
 
 template <class Model>
-class PinholePointFunctor {
+class PointProjectionFunctor {
  public:
-  PinholePointFunctor(const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
-                      const Eigen::Vector3d& p_in_world)
+  PointProjectionFunctor(const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
+                         const Eigen::Vector3d& p_in_world)
       : z_(z), W_(W), p_in_world_(p_in_world) {}
 
   template <typename T>
@@ -57,8 +57,8 @@ class PinholePointFunctor {
                                                      const Eigen::Matrix2d& W,
                                                      const Eigen::Vector3d& p_in_world) {
     return std::make_shared<
-        ceres::AutoDiffCostFunction<PinholePointFunctor, 2, Model::kSize, 7, 7>>(
-        new PinholePointFunctor(z, W, p_in_world));
+        ceres::AutoDiffCostFunction<PointProjectionFunctor, 2, Model::kSize, 7, 7>>(
+        new PointProjectionFunctor(z, W, p_in_world));
   }
 
  private:
@@ -71,9 +71,9 @@ class PinholePointFunctor {
 // camera::WithCameraModel in models.h); `noise` of dimension 2 (pixels).
 // Throws boxplus::Error for another name, another noise dimension or
 // non-finite input.
-std::shared_ptr<ceres::CostFunction> MakePinholePointFactor(const std::string& model,
-                                                            const Eigen::Vector2d& z,
-                                                            const NoiseModel& noise,
-                                                            const Eigen::Vector3d& p_in_world);
+std::shared_ptr<ceres::CostFunction> MakePointProjectionFactor(const std::string& model,
+                                                               const Eigen::Vector2d& z,
+                                                               const NoiseModel& noise,
+                                                               const Eigen::Vector3d& p_in_world);
 
 }  // namespace boxplus
