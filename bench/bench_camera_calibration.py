@@ -17,7 +17,7 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 from boxplus.calib import add_projection, init_camera
-from boxplus.geometry import project_pinhole
+from boxplus.calib.models import project_pinhole
 from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
 from scipy.spatial.transform import Rotation

@@ -25,7 +25,7 @@ from pathlib import Path
 import boxplus as bp
 import numpy as np
 from boxplus.calib import init_camera
-from boxplus.geometry import project_pinhole
+from boxplus.calib.models import project_pinhole
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "calib" / "opencv_stereo_corners.npz"
 

@@ -1,16 +1,10 @@
 """Geometry written once: rotations, absolute orientation, triangulation and
-the pinhole camera models, in numpy, for :mod:`boxplus.calib` and
-:mod:`boxplus.joint`.
+look-at poses, in numpy, for :mod:`boxplus.calib` and :mod:`boxplus.joint`
+(camera models: :mod:`boxplus.calib.models`).
 
 Frames follow the library's scheme: ``b_from_a`` maps a-coordinates to b,
 ``p_in_b = b_from_a.fromlocal(p_in_a) = R p_in_a + t``; poses are SE3 values,
 SE(3) = R³ × SO(3), tangent order [translation, rotation].
-
-The camera models are those of the C++ factors (``factors/camera/models.h``):
-``simple_radial`` [f, cx, cy, k1], ``pinhole`` [fx, fy, cx, cy], ``radial1``
-[fx, fy, cx, cy, k1], ``radial2`` [.., k1, k2] and ``opencv5`` [fx, fy, cx, cy,
-k1, k2, p1, p2, k3]; every one is OpenCV's model with the missing coefficients
-0 (Brown–Conrady, OpenCV ``projectPoints``).
 """
 
 from __future__ import annotations
@@ -21,20 +15,7 @@ import numpy as np
 
 from boxplus.manifolds import SE3, SO3
 
-__all__ = [
-    "CAMERA_LABELS", "absolute_orientation", "camera_matrix", "distort", "look_at", "model_labels", "pixel_rays",
-    "project", "project_pinhole", "project_to_so3", "triangulate_midpoint", "undistort",
-]
-
-CAMERA_LABELS: dict[str, list[str]] = {
-    "simple_radial": ["f", "cx", "cy", "k1"],
-    "pinhole": ["fx", "fy", "cx", "cy"],
-    "radial1": ["fx", "fy", "cx", "cy", "k1"],
-    "radial2": ["fx", "fy", "cx", "cy", "k1", "k2"],
-    "opencv5": ["fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"],
-}
-
-_DISTORTION = ["k1", "k2", "p1", "p2", "k3"]
+__all__ = ["absolute_orientation", "look_at", "project_to_so3", "triangulate_midpoint"]
 
 
 # ---- rotations -----------------------------------------------------------------------
@@ -222,93 +203,3 @@ def triangulate_midpoint(c1: np.ndarray, d1: np.ndarray, c2: np.ndarray, d2: np.
     l1 = (b * e - c * d) / den
     l2 = (a * e - b * d) / den
     return 0.5 * (c1 + l1[:, None] * d1 + c2 + l2[:, None] * d2)
-
-
-# ---- camera models ------------------------------------------------------------------
-
-def model_labels(model: str) -> list[str]:
-    """The names of a camera model's intrinsics, in order (ValueError for unknown models)."""
-    try:
-        return CAMERA_LABELS[model]
-    except KeyError:
-        raise ValueError(f"unknown camera model '{model}' (expected one of {sorted(CAMERA_LABELS)})") from None
-
-
-def camera_matrix(k: np.ndarray, model: str) -> tuple[np.ndarray, np.ndarray]:
-    """(K 3×3, OpenCV distortion [k1, k2, p1, p2, k3]) from a model's intrinsics vector."""
-    labels = model_labels(model)
-    k = np.asarray(k, dtype=float).reshape(-1)
-    if k.size != len(labels):
-        raise ValueError(f"camera model '{model}' has {len(labels)} intrinsics {labels}, got {k.size}")
-    v = dict(zip(labels, k))
-    fx, fy = v.get("fx", v.get("f")), v.get("fy", v.get("f"))
-    K = np.array([[fx, 0, v["cx"]], [0, fy, v["cy"]], [0, 0, 1.0]])
-    return K, np.array([v.get(n, 0.0) for n in _DISTORTION])
-
-
-def distort(x: np.ndarray, k1=0.0, k2=0.0, p1=0.0, p2=0.0, k3=0.0) -> np.ndarray:
-    """OpenCV's distortion of normalised coordinates x (..., 2).
-
-    With r² = x² + y² and ρ = 1 + k1 r² + k2 r⁴ + k3 r⁶:
-    x_d = x ρ + 2 p1 x y + p2 (r² + 2x²), y_d = y ρ + p1 (r² + 2y²) + 2 p2 x y.
-    The coefficients broadcast against x[..., :1] (scalars or (N, 1) per row).
-    """
-    x0, x1 = x[..., 0:1], x[..., 1:2]
-    r2 = x0 * x0 + x1 * x1
-    # Terms whose coefficients are the scalar 0 are skipped: the radial-only
-    # models are evaluated in solvers' inner loops.
-    if _zero(k2) and _zero(k3):
-        rad = 1.0 + k1 * r2
-    else:
-        rad = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
-    if _zero(p1) and _zero(p2):
-        return x * rad
-    xd = x0 * rad + 2.0 * p1 * x0 * x1 + p2 * (r2 + 2.0 * x0 * x0)
-    yd = x1 * rad + p1 * (r2 + 2.0 * x1 * x1) + 2.0 * p2 * x0 * x1
-    return np.concatenate([xd, yd], axis=-1)
-
-
-def _zero(c) -> bool:
-    return np.ndim(c) == 0 and c == 0
-
-
-def undistort(xd: np.ndarray, dist: Sequence[float] | np.ndarray, iters: int = 20) -> np.ndarray:
-    """Normalised coordinates x (N, 2) with ``distort(x, *dist)`` ≈ xd (N, 2).
-
-    Fixed-point iteration x ← (x_d − tangential(x)) / ρ(x) from x = x_d
-    (OpenCV's ``undistortPoints``); converges for the moderate distortion of
-    real lenses.
-    """
-    k1, k2, p1, p2, k3 = dist
-    u = np.array(xd, dtype=float)
-    for _ in range(iters):
-        r2 = np.sum(u**2, axis=1)
-        rad = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
-        dx = 2 * p1 * u[:, 0] * u[:, 1] + p2 * (r2 + 2 * u[:, 0] ** 2)
-        dy = p1 * (r2 + 2 * u[:, 1] ** 2) + 2 * p2 * u[:, 0] * u[:, 1]
-        u = (xd - np.column_stack([dx, dy])) / rad[:, None]
-    return u
-
-
-def project_pinhole(p_in_cam: np.ndarray, f, c, k1=0.0, k2=0.0, p1=0.0, p2=0.0, k3=0.0) -> np.ndarray:
-    """Pixels (..., 2) of camera-frame points (..., 3): f · distort(p_xy / p_z) + c.
-
-    ``f`` is one focal length or [fx, fy], ``c`` = [cx, cy]; all broadcast,
-    so batches of intrinsics ((N, 1), (N, 2)) project row by row.
-    """
-    p = np.asarray(p_in_cam, dtype=float)
-    return f * distort(p[..., :2] / p[..., 2:3], k1, k2, p1, p2, k3) + c
-
-
-def project(k: np.ndarray, p_in_cam: np.ndarray, model: str = "opencv5") -> np.ndarray:
-    """Pixels (N, 2) of camera-frame points (N, 3) with a model's intrinsics vector
-    (the residual model of the C++ factor of that name)."""
-    K, d = camera_matrix(k, model)
-    return project_pinhole(p_in_cam, np.array([K[0, 0], K[1, 1]]), K[:2, 2], *d)
-
-
-def pixel_rays(k: np.ndarray, uv: np.ndarray, model: str = "opencv5") -> np.ndarray:
-    """Undistorted viewing rays [x, y, 1] (N, 3) of pixels uv (N, 2) (the inverse of :func:`project`)."""
-    K, d = camera_matrix(k, model)
-    x = undistort((np.asarray(uv, dtype=float) - K[:2, 2]) / np.diag(K)[:2], d)
-    return np.column_stack([x, np.ones(len(x))])

@@ -5,7 +5,7 @@ import boxplus as bp
 import numpy as np
 import pytest
 from boxplus import geometry as g
-from boxplus.calib import add_projection
+from boxplus.calib import add_projection, models
 from scipy.spatial.transform import Rotation
 
 SEEDS = range(5)
@@ -161,10 +161,10 @@ def test_project_matches_opencv(seed):
     cv2 = pytest.importorskip("cv2")
     P = _points(seed)
     k = np.array(K_BY_MODEL["opencv5"])
-    K, d = g.camera_matrix(k, "opencv5")
+    K, d = models.camera_matrix(k, "opencv5")
     uv, _ = cv2.projectPoints(P, np.zeros(3), np.zeros(3), K, d)
-    np.testing.assert_allclose(g.project(k, P), uv.reshape(-1, 2), atol=1e-9)
-    np.testing.assert_allclose(g.pixel_rays(k, uv.reshape(-1, 2)), P / P[:, 2:3], atol=1e-9)
+    np.testing.assert_allclose(models.project(k, P), uv.reshape(-1, 2), atol=1e-9)
+    np.testing.assert_allclose(models.rays(k, uv.reshape(-1, 2)), P / P[:, 2:3], atol=1e-9)
 
 
 @pytest.mark.parametrize("model", sorted(K_BY_MODEL))
@@ -178,7 +178,7 @@ def test_project_matches_the_cpp_factor(model):
     for p in P:
         add_projection(o, np.zeros(2), kid, pose, cam, p, model=model)
     (r,) = o.residuals().values()
-    np.testing.assert_allclose(g.project(k, P, model), r, atol=1e-9)
+    np.testing.assert_allclose(models.project(k, P, model), r, atol=1e-9)
 
 
 def test_project_pinhole_broadcasts_per_row_intrinsics():
@@ -186,12 +186,12 @@ def test_project_pinhole_broadcasts_per_row_intrinsics():
     f = np.array([[400.0], [500], [600], [700]])
     c = np.tile([320.0, 240], (4, 1))
     k1 = np.full((4, 1), -0.1)
-    row = [g.project(np.r_[f[i], c[i], k1[i]], P[i : i + 1], "simple_radial")[0] for i in range(4)]
-    np.testing.assert_allclose(g.project_pinhole(P, f, c, k1=k1), row, atol=1e-12)
+    row = [models.project(np.r_[f[i], c[i], k1[i]], P[i : i + 1], "simple_radial")[0] for i in range(4)]
+    np.testing.assert_allclose(models.project_pinhole(P, f, c, k1=k1), row, atol=1e-12)
 
 
 def test_camera_matrix_names_bad_models_and_sizes():
     with pytest.raises(ValueError, match="unknown camera model 'fisheye'"):
-        g.camera_matrix(np.ones(4), "fisheye")
+        models.camera_matrix(np.ones(4), "fisheye")
     with pytest.raises(ValueError, match="has 9 intrinsics"):
-        g.camera_matrix(np.ones(4), "opencv5")
+        models.camera_matrix(np.ones(4), "opencv5")

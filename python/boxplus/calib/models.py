@@ -3,8 +3,10 @@ projection, the inverse (viewing rays), OpenCV's layout, and initial values.
 
 The models and their maths are those of ``cpp/include/boxplus/factors/camera/models.h``:
 
-* the pinhole family of :mod:`boxplus.geometry` (``simple_radial``, ``pinhole``,
-  ``radial1``, ``radial2``, ``opencv5``);
+* the pinhole family (``simple_radial`` [f, cx, cy, k1], ``pinhole`` [fx, fy,
+  cx, cy], ``radial1`` [.., k1], ``radial2`` [.., k1, k2], ``opencv5`` [fx, fy,
+  cx, cy, k1, k2, p1, p2, k3]): OpenCV's Brown–Conrady model with the missing
+  coefficients 0 (``projectPoints``);
 * ``rational`` [fx, fy, cx, cy, k1, k2, p1, p2, k3, k4, k5, k6]: OpenCV's
   ``CALIB_RATIONAL_MODEL``, the radial factor (1 + k1 r² + k2 r⁴ + k3 r⁶) /
   (1 + k4 r² + k5 r⁴ + k6 r⁶);
@@ -21,13 +23,24 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from boxplus import _core, geometry
+from boxplus import _core
 
-__all__ = ["CAMERA_LABELS", "OPENCV_DISTORTION", "camera_matrix", "initial_intrinsics",
-           "intrinsics_vector", "is_fisheye", "model_labels", "project", "rays"]
+__all__ = ["CAMERA_LABELS", "OPENCV_DISTORTION", "camera_matrix", "distort", "initial_intrinsics",
+           "intrinsics_vector", "is_fisheye", "model_labels", "project", "project_pinhole", "rays",
+           "undistort"]
+
+# The pinhole family: Brown–Conrady with some coefficients left out.
+_PINHOLE_FAMILY: dict[str, list[str]] = {
+    "simple_radial": ["f", "cx", "cy", "k1"],
+    "pinhole": ["fx", "fy", "cx", "cy"],
+    "radial1": ["fx", "fy", "cx", "cy", "k1"],
+    "radial2": ["fx", "fy", "cx", "cy", "k1", "k2"],
+    "opencv5": ["fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3"],
+}
+_BROWN_CONRADY = ["k1", "k2", "p1", "p2", "k3"]
 
 CAMERA_LABELS: dict[str, list[str]] = {
-    **geometry.CAMERA_LABELS,
+    **_PINHOLE_FAMILY,
     "rational": ["fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6"],
     "kannala_brandt": ["fx", "fy", "cx", "cy", "k1", "k2", "k3", "k4"],
     "double_sphere": ["fx", "fy", "cx", "cy", "xi", "alpha"],
@@ -43,7 +56,7 @@ if sorted(CAMERA_LABELS) != sorted(_core.camera_model_names()):
 # for the pinhole family, cv2.fisheye's for kannala_brandt); double_sphere has
 # no OpenCV counterpart and lists its own two coefficients.
 OPENCV_DISTORTION: dict[str, list[str]] = {
-    **{m: ["k1", "k2", "p1", "p2", "k3"] for m in geometry.CAMERA_LABELS},
+    **dict.fromkeys(_PINHOLE_FAMILY, _BROWN_CONRADY),
     "rational": ["k1", "k2", "p1", "p2", "k3", "k4", "k5", "k6"],
     "kannala_brandt": ["k1", "k2", "k3", "k4"],
     "double_sphere": ["xi", "alpha"],
@@ -108,6 +121,64 @@ def initial_intrinsics(K: np.ndarray, model: str) -> np.ndarray:
     return intrinsics_vector(K, model)
 
 
+# ---- the pinhole family (Brown–Conrady) -------------------------------------------
+
+def distort(x: np.ndarray, k1=0.0, k2=0.0, p1=0.0, p2=0.0, k3=0.0) -> np.ndarray:
+    """OpenCV's distortion of normalised coordinates x (..., 2).
+
+    With r² = x² + y² and ρ = 1 + k1 r² + k2 r⁴ + k3 r⁶:
+    x_d = x ρ + 2 p1 x y + p2 (r² + 2x²), y_d = y ρ + p1 (r² + 2y²) + 2 p2 x y.
+    The coefficients broadcast against x[..., :1] (scalars or (N, 1) per row).
+    """
+    x0, x1 = x[..., 0:1], x[..., 1:2]
+    r2 = x0 * x0 + x1 * x1
+    # Terms whose coefficients are the scalar 0 are skipped: the radial-only
+    # models are evaluated in solvers' inner loops.
+    if _zero(k2) and _zero(k3):
+        rad = 1.0 + k1 * r2
+    else:
+        rad = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+    if _zero(p1) and _zero(p2):
+        return x * rad
+    xd = x0 * rad + 2.0 * p1 * x0 * x1 + p2 * (r2 + 2.0 * x0 * x0)
+    yd = x1 * rad + p1 * (r2 + 2.0 * x1 * x1) + 2.0 * p2 * x0 * x1
+    return np.concatenate([xd, yd], axis=-1)
+
+
+def _zero(c) -> bool:
+    return np.ndim(c) == 0 and c == 0
+
+
+def undistort(xd: np.ndarray, dist: Sequence[float] | np.ndarray, iters: int = 20) -> np.ndarray:
+    """Normalised coordinates x (N, 2) with ``distort(x, *dist)`` ≈ xd (N, 2).
+
+    Fixed-point iteration x ← (x_d − tangential(x)) / ρ(x) from x = x_d
+    (OpenCV's ``undistortPoints``); converges for the moderate distortion of
+    real lenses.
+    """
+    k1, k2, p1, p2, k3 = dist
+    u = np.array(xd, dtype=float)
+    for _ in range(iters):
+        r2 = np.sum(u**2, axis=1)
+        rad = 1 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        dx = 2 * p1 * u[:, 0] * u[:, 1] + p2 * (r2 + 2 * u[:, 0] ** 2)
+        dy = p1 * (r2 + 2 * u[:, 1] ** 2) + 2 * p2 * u[:, 0] * u[:, 1]
+        u = (xd - np.column_stack([dx, dy])) / rad[:, None]
+    return u
+
+
+def project_pinhole(p_in_cam: np.ndarray, f, c, k1=0.0, k2=0.0, p1=0.0, p2=0.0, k3=0.0) -> np.ndarray:
+    """Pixels (..., 2) of camera-frame points (..., 3): f · distort(p_xy / p_z) + c.
+
+    ``f`` is one focal length or [fx, fy], ``c`` = [cx, cy]; all broadcast,
+    so batches of intrinsics ((N, 1), (N, 2)) project row by row.
+    """
+    p = np.asarray(p_in_cam, dtype=float)
+    return f * distort(p[..., :2] / p[..., 2:3], k1, k2, p1, p2, k3) + c
+
+
+# ---- every model ----------------------------------------------------------------------
+
 def project(k: np.ndarray, p_in_cam: np.ndarray, model: str = "opencv5") -> np.ndarray:
     """Pixels (N, 2) of camera-frame points (N, 3) (the C++ factor's model)."""
     p = np.atleast_2d(np.asarray(p_in_cam, dtype=float))
@@ -137,7 +208,7 @@ def project(k: np.ndarray, p_in_cam: np.ndarray, model: str = "opencv5") -> np.n
         tang = np.column_stack([2 * p1 * xy[:, 0] + p2 * (r2[:, 0] + 2 * x[:, 0] ** 2),
                                 p1 * (r2[:, 0] + 2 * x[:, 1] ** 2) + 2 * p2 * xy[:, 0]])
         return f * (x * num / den + tang) + c
-    return geometry.project(k, p, model)
+    return project_pinhole(p, f, c, *[v.get(n, 0.0) for n in _BROWN_CONRADY])
 
 
 def rays(k: np.ndarray, uv: np.ndarray, model: str = "opencv5", iters: int = 30) -> np.ndarray:
@@ -178,4 +249,5 @@ def rays(k: np.ndarray, uv: np.ndarray, model: str = "opencv5", iters: int = 30)
             dy = p1 * (r2 + 2 * x[:, 1] ** 2) + 2 * p2 * x[:, 0] * x[:, 1]
             x = (m - np.column_stack([dx, dy])) / rad[:, None]
         return np.column_stack([x, np.ones(len(x))])
-    return geometry.pixel_rays(k, uv, model)
+    x = undistort(m, [v.get(n, 0.0) for n in _BROWN_CONRADY])
+    return np.column_stack([x, np.ones(len(x))])
