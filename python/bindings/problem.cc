@@ -39,13 +39,10 @@ py::object ExactValue(const Eigen::VectorXd& a, const std::string& kind) {
     throw py::value_error(kind + ": " + std::to_string(a.size()) + " numbers for an ambient size " +
                           std::to_string(T::kAmbient));
   }
-  T t = T::FromAmbient(a.data());  // validates
-  // The accessor's pointer is to t's own (non-const) storage.
-  double* x = const_cast<double*>(t.data());
-  if ((Eigen::Map<const Eigen::VectorXd>(x, a.size()) - a).cwiseAbs().maxCoeff() > 1e-12) {
+  const T t = FromAmbientExactly<T>(a);
+  if ((Eigen::Map<const Eigen::VectorXd>(t.data(), a.size()) - a).cwiseAbs().maxCoeff() > 0) {
     throw py::value_error(kind + ": the ambient vector is not a normalised value");
   }
-  std::copy(a.data(), a.data() + a.size(), x);
   return py::cast(t);
 }
 

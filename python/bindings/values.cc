@@ -255,6 +255,8 @@ bool
 }
 
 // ⊞, ⊟, dof, ambient, pickling and the manifold handle, shared by all kinds.
+// Unpickling restores the stored bits exactly (FromAmbientExactly): a value sent
+// to a worker process is the value itself, so process results equal serial ones.
 template <class T, class Cls>
 void BindCommon(Cls& cls, const char* kind) {
   cls.def_property_readonly_static(
@@ -299,11 +301,9 @@ void BindCommon(Cls& cls, const char* kind) {
       .def("__copy__", [](const T& x) { return T(x); })
       .def(
           "__deepcopy__", [](const T& x, py::dict) { return T(x); }, py::arg("memo"))
-      .def(py::pickle([](const T& x) { return py::make_tuple(Eigen::VectorXd(x.ambient())); },
-                      [](const py::tuple& t) {
-                        const Eigen::VectorXd a = t[0].cast<Eigen::VectorXd>();
-                        return T::FromAmbient(a.data());
-                      }));
+      .def(py::pickle(
+          [](const T& x) { return py::make_tuple(Eigen::VectorXd(x.ambient())); },
+          [](const py::tuple& t) { return FromAmbientExactly<T>(t[0].cast<Eigen::VectorXd>()); }));
 }
 
 }  // namespace

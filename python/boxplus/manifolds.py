@@ -412,10 +412,10 @@ class _CompoundBase(ManifoldValue):
     def __reduce__(self) -> tuple[Any, ...]:
         # The class is made at run time: pickled by reference when its module holds
         # it under its name (``Plane = make_compound("Plane", ...)``), else by its
-        # definition, rebuilt on loading. The members pickle as themselves, so the
-        # value comes back bit for bit (no renormalisation through from_ambient).
+        # definition, rebuilt on loading. The members pickle as themselves, bit for
+        # bit (values unpickle their exact stored numbers).
         cls = type(self)
-        members = {n: _exactly(getattr(self, n)) for n in self._members}
+        members = {n: getattr(self, n) for n in self._members}
         if getattr(sys.modules.get(cls.__module__), cls.__qualname__, None) is cls:
             return (_compound_with_members, (cls, members))
         return (_rebuilt_compound, (cls.__name__, cls._prototypes, members))
@@ -568,22 +568,6 @@ def make_compound(_name: str = "Compound", **members: Any) -> type[_CompoundBase
             "__module__": caller,
         },
     )
-
-
-class _Exact:
-    """Pickles an SO3, SE3 or S2 member with its exact ambient bits (their own pickling
-    renormalises, which can move the last bit); unpickles as the value itself."""
-
-    def __init__(self, value: Any) -> None:
-        self.kind = type(value).__name__
-        self.ambient = np.array(value.ambient, dtype=float)
-
-    def __reduce__(self) -> tuple[Any, tuple[str, np.ndarray]]:
-        return _core.exact_value, (self.kind, self.ambient)
-
-
-def _exactly(value: Any) -> Any:
-    return _Exact(value) if type(value) in (SO3, SE3, S2) else value
 
 
 def _compound_with_members(cls: type[_CompoundBase], members: dict[str, Any]) -> _CompoundBase:

@@ -463,8 +463,9 @@ class OptimizationProblem:
         information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
         name: str | None = None, group: str = "prior",
     ) -> int:
-        """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2,
-        compounds of them); ``group`` names its RMS group (:meth:`errors`)."""
+        """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2;
+        a compound's prior is a measurement ``add_measurement(z, lambda x: x, [vid])``);
+        ``group`` names its RMS group (:meth:`errors`)."""
         codec = self.codec(vid)
         what = f"measurement '{name}'" if name else f"prior on variable {vid}"
         if _codec_or_none(z) is not codec:
