@@ -66,10 +66,12 @@ def test_wheel_runs_the_suite_and_the_cli_in_a_fresh_venv(tmp_path):
     for name in SUITE:
         shutil.copy(ROOT / "tests" / "python" / name, tests / "python" / name)
     shutil.copytree(ROOT / "tests" / "data", tests / "data")
+    shutil.copytree(ROOT / "tests" / "harness", tests / "harness")  # the g2o oracle, not in the wheel
     shutil.copytree(ROOT / "examples", tmp_path / "examples")  # test_slam runs one
     shutil.copytree(ROOT / "data", tmp_path / "data")  # the example's data
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "LD_LIBRARY_PATH")}
     env["OPENBLAS_NUM_THREADS"] = "1"
+    env["PYTHONPATH"] = str(tests)  # the harness only, as pytest's pythonpath gives it in the repository
     where = subprocess.run([str(py), "-c", "import boxplus; print(boxplus.__file__)"],
                            capture_output=True, text=True, cwd=tmp_path, env=env, check=True)
     assert where.stdout.startswith(str(venv)), where.stdout
