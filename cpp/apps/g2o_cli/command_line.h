@@ -147,11 +147,11 @@ inline std::optional<int> ParseCommandLine(int argc, char** argv, CommandLine* c
     UsageError(e.what());
   }
   SolverOptions& so = cl->solver_options;
-  int iterations = so.max_iterations = 100;
+  int iterations = so.max_iterations;  // the defaults are DefaultSolverOptions()'s
   int nonmonotonic = so.use_nonmonotonic_steps ? so.max_consecutive_nonmonotonic_steps : 0;
   std::string gauge;
   bool verbose = false, list_solvers = false, list_kernels = false, list_types = false;
-  std::string damping = "levenberg";
+  std::string damping;  // parsed only when given (DefaultSolverOptions() sets it otherwise)
   bool jacobi_scaling = false, no_jacobi_scaling = false;
 
   CLI::App app(kDescription, "boxplus-g2o");
