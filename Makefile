@@ -29,7 +29,8 @@ deps:
 DEMO_PKGS := "scikit-build-core>=0.10" "pybind11>=2.12" numpy matplotlib \
              "opencv-python-headless>=4.8,<5" pyyaml tqdm
 DEV_PKGS  := pytest hypothesis scipy ruff pybind11-stubgen mypy sphinx myst-parser threadpoolctl \
-             "ray>=2.9" "dask[distributed]>=2023.1"
+             "ray>=2.9" "dask[distributed]>=2023.1" \
+             "rosbags>=0.10"
 
 venv: deps
 	@test -x $(VPY) || $(PYTHON) -m venv $(VENV)
@@ -37,7 +38,8 @@ venv: deps
 	@$(VPY) -m pip install -q --disable-pip-version-check $(DEMO_PKGS)
 
 # Tests, lint, docs: pytest, hypothesis, scipy (references), ruff, mypy, the stub
-# generator, Sphinx; solve_many's cluster tests (Ray, Dask) and both BLAS thread controls.
+# generator, Sphinx; solve_many's cluster tests (Ray, Dask), both BLAS thread controls,
+# and rosbags (the camera–IMU tests write and read ROS 1/2 bags and MCAP files).
 venv-dev: venv
 	@echo "venv-dev: the test, lint and docs tools"
 	@$(VPY) -m pip install -q --disable-pip-version-check $(DEV_PKGS)

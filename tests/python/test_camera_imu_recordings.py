@@ -159,3 +159,198 @@ def test_the_command_line_refuses_bad_input_by_name(recording, tmp_path, capsys)
         main([*base[:-3], "--out", str(folder / "mav0" / "out"), "--gyro-sigma", "0.005",
               "--accel-sigma", "0.05", "--quiet"])
     assert e.value.code == 2 and "inside the recording" in capsys.readouterr().err
+
+
+# ---- the same recording in ROS bags (boxplus.calib.bags), written by rosbags' writers
+
+
+def _bag_writer(kind: str, path):
+    """(writer, typestore, serialise) for a ROS 1 bag, a ROS 2 sqlite or MCAP bag."""
+    from rosbags.rosbag1 import Writer as Writer1
+    from rosbags.rosbag2 import StoragePlugin
+    from rosbags.rosbag2 import Writer as Writer2
+    from rosbags.typesys import Stores, get_typestore
+
+    if kind == "ros1":
+        ts = get_typestore(Stores.ROS1_NOETIC)
+        return Writer1(path), ts, ts.serialize_ros1
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    plugin = StoragePlugin.MCAP if kind == "mcap" else StoragePlugin.SQLITE3
+    return Writer2(path, version=9, storage_plugin=plugin), ts, ts.serialize_cdr
+
+
+def _header(ts, kind, ns, seq=0):
+    Header, Time = ts.types["std_msgs/msg/Header"], ts.types["builtin_interfaces/msg/Time"]
+    stamp = Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+    if kind == "ros1":
+        return Header(seq=seq, stamp=stamp, frame_id="cam0")
+    return Header(stamp=stamp, frame_id="cam0")
+
+
+def _image_message(ts, kind, ns, gray, encoding):
+    if encoding == "png":
+        C = ts.types["sensor_msgs/msg/CompressedImage"]
+        return C(header=_header(ts, kind, ns), format="mono8; png compressed",
+                 data=np.frombuffer(cv2.imencode(".png", gray)[1].tobytes(), np.uint8))
+    Image = ts.types["sensor_msgs/msg/Image"]
+    h, w = gray.shape
+    if encoding == "rgb8":
+        pixels = np.repeat(gray[:, :, None], 3, axis=2)
+    elif encoding == "mono16":  # a 12-bit sensor in 16 bits, big-endian, rows padded
+        pixels = (gray.astype(np.uint16) * 16).astype(">u2").view(np.uint8).reshape(h, 2 * w)
+        pixels = np.hstack([pixels, np.zeros((h, 6), np.uint8)])
+        return Image(header=_header(ts, kind, ns), height=h, width=w, encoding="mono16",
+                     is_bigendian=1, step=2 * w + 6, data=pixels.ravel())
+    else:
+        pixels = gray
+    step = pixels.shape[1] * (pixels.shape[2] if pixels.ndim == 3 else 1)
+    return Image(header=_header(ts, kind, ns), height=h, width=w, encoding=encoding,
+                 is_bigendian=0, step=step, data=np.ascontiguousarray(pixels).ravel())
+
+
+def write_bag(kind, path, folder, encoding="mono8", zero_imu_stamps=False, shuffle_imu=False):
+    """The EuRoC folder's images and IMU samples as a bag: one camera topic, one IMU
+    topic, a second camera topic of a few frames and a /tf-like topic to ignore."""
+    rec = read_euroc(folder)
+    writer, ts, ser = _bag_writer(kind, path)
+    Imu, V3 = ts.types["sensor_msgs/msg/Imu"], ts.types["geometry_msgs/msg/Vector3"]
+    Q, Str = ts.types["geometry_msgs/msg/Quaternion"], ts.types["std_msgs/msg/String"]
+    image_type = ("sensor_msgs/msg/CompressedImage" if encoding == "png"
+                  else "sensor_msgs/msg/Image")
+    cam_ns = rec.origin_ns + np.round(rec.frame_times * 1e9).astype(np.int64)
+    imu_ns = rec.origin_ns + np.round(rec.imu_times * 1e9).astype(np.int64)
+    order = np.arange(len(imu_ns))
+    if shuffle_imu:  # received out of stamp order, as over a busy USB link
+        order = order.reshape(-1, 2)[:, ::-1].ravel() if len(order) % 2 == 0 else order
+    with writer as w:
+        cam = w.add_connection("/cam0/image_raw", image_type, typestore=ts)
+        other = w.add_connection("/cam1/image_raw", "sensor_msgs/msg/Image", typestore=ts)
+        imu = w.add_connection("/imu0", "sensor_msgs/msg/Imu", typestore=ts)
+        note = w.add_connection("/note", "std_msgs/msg/String", typestore=ts)
+        zero = np.zeros(9)
+        # the j-th IMU message received carries sample order[j]'s stamp
+        events = [(int(imu_ns[j]) + 1000, "imu", int(order[j])) for j in range(len(order))]
+        events += [(int(t) + 2000, "cam", k) for k, t in enumerate(cam_ns)]
+        for k, (received, what, i) in enumerate(sorted(events, key=lambda e: e[0])):
+            if what == "imu":
+                stamp = 0 if zero_imu_stamps else int(imu_ns[i])
+                m = Imu(header=_header(ts, kind, stamp), orientation=Q(x=0.0, y=0.0, z=0.0, w=1.0),
+                        orientation_covariance=zero,
+                        angular_velocity=V3(x=rec.gyro[i, 0], y=rec.gyro[i, 1], z=rec.gyro[i, 2]),
+                        angular_velocity_covariance=zero,
+                        linear_acceleration=V3(x=rec.accel[i, 0], y=rec.accel[i, 1], z=rec.accel[i, 2]),
+                        linear_acceleration_covariance=zero)
+                w.write(imu, received, ser(m, "sensor_msgs/msg/Imu"))
+            else:
+                gray = cv2.imread(str(rec.images[i]), cv2.IMREAD_GRAYSCALE)
+                m = _image_message(ts, kind, int(cam_ns[i]), gray, encoding)
+                w.write(cam, received, ser(m, image_type))
+                if i < 3:
+                    w.write(other, received, ser(_image_message(ts, kind, int(cam_ns[i]), gray,
+                                                                "mono8"), "sensor_msgs/msg/Image"))
+            if k == 0:
+                w.write(note, received, ser(Str(data="hello"), "std_msgs/msg/String"))
+    return rec
+
+
+@pytest.mark.parametrize("kind,encoding", [("ros1", "mono8"), ("sqlite", "rgb8"),
+                                           ("mcap", "png"), ("ros1", "mono16")])
+def test_bags_read_as_the_euroc_folder(recording, tmp_path, kind, encoding):
+    pytest.importorskip("rosbags")
+    from boxplus.calib.bags import is_bag, read_bag
+
+    folder, *_ = recording
+    path = tmp_path / ("rec.bag" if kind == "ros1" else "rec2")
+    euroc = write_bag(kind, path, folder, encoding, shuffle_imu=kind == "sqlite")
+    # a ROS 2 bag is a folder; its MCAP file alone is read too
+    sources = [path] + (list(path.glob("*.mcap")) if kind == "mcap" else [])
+    for source in sources:
+        assert is_bag(source)
+        rec = read_bag(source, image_topic="/cam0/image_raw")
+        assert rec.imu_topic == "/imu0" and rec.origin_ns == euroc.origin_ns
+        np.testing.assert_array_equal(rec.imu_times, euroc.imu_times)  # same integer ns
+        np.testing.assert_array_equal(rec.frame_times, euroc.frame_times)
+        np.testing.assert_array_equal(rec.gyro, euroc.gyro)
+        np.testing.assert_array_equal(rec.accel, euroc.accel)
+    frames = list(rec.frames())
+    assert len(frames) == len(euroc.images)
+    for (name, gray), image in zip(frames[::7], euroc.images[::7]):
+        expected = cv2.imread(str(image), cv2.IMREAD_GRAYSCALE)
+        if encoding == "mono16":  # stretched from 12 bits to the image's own maximum
+            expected = np.round(expected * (255.0 / expected.max())).astype(np.uint8)
+        np.testing.assert_array_equal(gray, expected, err_msg=name)
+
+
+def test_bag_topics_and_stamps_are_checked(recording, tmp_path):
+    pytest.importorskip("rosbags")
+    from boxplus.calib.bags import read_bag
+
+    folder, *_ = recording
+    bag = tmp_path / "rec.bag"
+    euroc = write_bag("ros1", bag, folder, zero_imu_stamps=True)
+    with pytest.raises(ValueError, match=r"rec.bag: 2 topics of type sensor_msgs/msg/Image .*"
+                                         r"\(/cam0/image_raw, /cam1/image_raw\); name one with "
+                                         r"--image-topic"):
+        read_bag(bag)
+    with pytest.raises(ValueError, match=r"rec.bag: no topic '/imu1' \(topics: .*/imu0 "
+                                         r"\(sensor_msgs/msg/Imu\)"):
+        read_bag(bag, "/cam0/image_raw", "/imu1")
+    with pytest.raises(ValueError, match="topic '/note' carries std_msgs/msg/String"):
+        read_bag(bag, "/note")
+    # the driver left the IMU's stamps unset: the receive times, and a warning saying so
+    with pytest.warns(UserWarning, match="every header.stamp of '/imu0' is zero"):
+        rec = read_bag(bag, "/cam0/image_raw")
+    np.testing.assert_allclose(rec.imu_times, euroc.imu_times, atol=1e-9)
+    np.testing.assert_allclose(rec.frame_times, euroc.frame_times - 1e-6, atol=1e-9)  # origin: a receive time
+    with pytest.raises(FileNotFoundError, match="nothing.bag: no such bag"):
+        read_bag(tmp_path / "nothing.bag")
+
+
+def test_the_command_line_calibrates_from_a_bag(recording, tmp_path):
+    pytest.importorskip("rosbags")
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    bag = tmp_path / "rec.bag"
+    write_bag("ros1", bag, folder)
+    args = ["--intrinsics", str(folder / "calibration.yml"), "--target",
+            str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--pixel-sigma", "0.3",
+            "--quiet", "--no-plots"]
+    with pytest.raises(SystemExit) as stop:  # two camera topics: the user must choose
+        main([str(bag), *args, "--out", str(tmp_path / "x")])
+    assert stop.value.code == 2
+    out = tmp_path / "out"
+    assert main([str(bag), *args, "--image-topic", "/cam0/image_raw", "--out", str(out)]) == 0
+    doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())["cam0"]
+    own = yaml.safe_load((out / "camera_imu.yaml").read_text())
+    T = np.array(doc["T_cam_imu"])
+    imu_from_cam = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
+    err = np.r_[imu_from_cam.pos - IMU_FROM_CAM.pos,
+                (IMU_FROM_CAM.rot.inverse() * imu_from_cam.rot).log()]
+    assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu_from_cam"]))
+    assert abs(doc["timeshift_cam_imu"] - 0.012) < 4 * own["std"]["time_offset"][0]
+
+
+def test_damaged_bags_and_a_missing_rosbags_are_named(recording, tmp_path, monkeypatch):
+    pytest.importorskip("rosbags")
+    from boxplus.calib.bags import read_bag
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    bag = tmp_path / "rec.bag"
+    write_bag("ros1", bag, folder)
+    cut = tmp_path / "cut.bag"  # a recording stopped by a full disk
+    cut.write_bytes(bag.read_bytes()[:4000])
+    with pytest.raises(ValueError, match=r"cut.bag: not a bag rosbags can read"):
+        read_bag(cut)
+    (tmp_path / "junk.mcap").write_bytes(b"not an mcap")
+    with pytest.raises(ValueError, match=r"junk.mcap: not a bag rosbags can read"):
+        read_bag(tmp_path / "junk.mcap")
+    monkeypatch.setitem(__import__("sys").modules, "rosbags", None)
+    with pytest.raises(ImportError, match=r"pip install 'boxplus\[ros\]'"):
+        read_bag(bag)
+    with pytest.raises(SystemExit) as stop:
+        main([str(bag), "--intrinsics", str(folder / "calibration.yml"), "--target",
+              str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--quiet",
+              "--out", str(tmp_path / "o")])
+    assert stop.value.code == 2

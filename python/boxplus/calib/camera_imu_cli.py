@@ -1,13 +1,17 @@
 """``boxplus-camera-imu``: calibrate a camera and an IMU from a recording in motion.
 
 The recording is a folder in the EuRoC/ASL layout (``cam0/data.csv`` + images,
-``imu0/data.csv``; :mod:`boxplus.calib.recordings`), the camera's intrinsics come
+``imu0/data.csv``; :mod:`boxplus.calib.recordings`) or a bag — ROS 1 ``*.bag``, a
+ROS 2 bag folder or an ``*.mcap`` file, read without ROS (:mod:`boxplus.calib.bags`,
+``pip install 'boxplus[ros]'``; ``--image-topic``/``--imu-topic`` when the bag has
+more than one camera or IMU topic). The camera's intrinsics come
 from an earlier calibration (``boxplus-calib``'s OpenCV YAML, a Kalibr camchain or a
 ROS camera_info), the target and the IMU's noise from Kalibr's ``target.yaml`` and
 ``imu.yaml`` (or boxplus' ``--target`` spelling and σ per sample)::
 
     boxplus-camera-imu recording/ --intrinsics calibration.yml \\
         --target target.yaml --imu imu.yaml --out result/
+    boxplus-camera-imu recording.bag --image-topic /cam0/image_raw --imu-topic /imu0 ...
 
 writes ``camchain-imucam.yaml`` (Kalibr's file: ``T_cam_imu``, ``timeshift_cam_imu``),
 ``report.txt`` (every estimate with σ) and ``camera_imu.png`` (the gyroscope against
@@ -32,11 +36,13 @@ def _parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="boxplus-camera-imu",
         description="Calibrate a camera and an IMU (imu_from_cam, the clocks' time offset, "
-                    "the biases) from a recording in motion, in the EuRoC/ASL folder layout.",
+                    "the biases) from a recording in motion: an EuRoC/ASL folder, a ROS 1/2 "
+                    "bag or an MCAP file.",
         epilog="Example: boxplus-camera-imu recording/ --intrinsics calibration.yml "
                "--target target.yaml --imu imu.yaml --out result/")
-    ap.add_argument("folder", help="the recording: FOLDER[/mav0]/cam0/data.csv, cam0/data/*.png, "
-                                   "imu0/data.csv (timestamps in ns)")
+    ap.add_argument("recording", help="an EuRoC/ASL folder (FOLDER[/mav0]/cam0/data.csv, "
+                                      "cam0/data/*.png, imu0/data.csv; timestamps in ns), a ROS 1 "
+                                      "bag (*.bag), a ROS 2 bag folder or an MCAP file")
     ap.add_argument("--intrinsics", required=True, metavar="FILE",
                     help="the camera's calibration: OpenCV YAML (boxplus-calib), Kalibr "
                          "camchain or ROS camera_info")
@@ -65,8 +71,13 @@ def _parser() -> argparse.ArgumentParser:
                     help="the trajectory spline's knot spacing in s (default 0.05)")
     ap.add_argument("--max-offset", type=float, default=0.1,
                     help="the largest time offset searched, in s (default 0.1)")
-    ap.add_argument("--cam", default="cam0", help="the camera's subfolder (default cam0)")
-    ap.add_argument("--imu-folder", default="imu0", help="the IMU's subfolder (default imu0)")
+    ap.add_argument("--cam", default="cam0", help="EuRoC: the camera's subfolder (default cam0)")
+    ap.add_argument("--imu-folder", default="imu0", help="EuRoC: the IMU's subfolder (default imu0)")
+    ap.add_argument("--image-topic", default=None,
+                    help="bag: the camera's topic (sensor_msgs/Image or CompressedImage; "
+                         "default: the bag's only one)")
+    ap.add_argument("--imu-topic", default=None,
+                    help="bag: the IMU's topic (sensor_msgs/Imu; default: the bag's only one)")
     ap.add_argument("--out", type=Path, default=Path("camera_imu"),
                     help="output folder (default ./camera_imu); files are written atomically")
     ap.add_argument("--no-plots", action="store_true", help="write no PNG")
@@ -171,19 +182,24 @@ def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: fl
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from boxplus.calib import io
+    from boxplus.calib.bags import is_bag, read_bag
     from boxplus.calib.camera_imu import calibrate_camera_imu
     from boxplus.calib.recordings import detect_recording, read_euroc
 
     camera = _camera(args)
     target = _target(args.target)
     gyro_sigma, accel_sigma, gyro_walk, accel_walk = _noise(args)
+    source = Path(args.recording)
     try:
-        recording = read_euroc(args.folder, args.cam, args.imu_folder)
-    except (OSError, ValueError) as e:
+        if is_bag(source):
+            recording: Any = read_bag(source, args.image_topic, args.imu_topic)
+        else:
+            recording = read_euroc(source, args.cam, args.imu_folder)
+    except (OSError, ValueError, ImportError) as e:  # no rosbags: the message names the extra
         raise _fail(str(e)) from None
     out = args.out
-    if out.resolve() == Path(args.folder).resolve() or Path(args.folder).resolve() in out.resolve().parents:
-        raise _fail(f"--out {out} is inside the recording {args.folder}: choose another folder")
+    if out.resolve() == source.resolve() or source.resolve() in out.resolve().parents:
+        raise _fail(f"--out {out} is inside the recording {source}: choose another folder")
 
     def progress(done: int, total: int) -> None:
         if not args.quiet and (done == total or done % max(1, total // 10) == 0):

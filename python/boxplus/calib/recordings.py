@@ -15,6 +15,7 @@
   discretisation).
 * :func:`read_kalibr_target` — Kalibr's ``target.yaml`` (``checkerboard`` or
   ``aprilgrid``) as a :class:`boxplus.calib.targets.Target`.
+* ROS 1/2 bags and MCAP files: :func:`boxplus.calib.bags.read_bag`.
 * :func:`detect_recording` — the target's corners in every image, as the
   :class:`boxplus.calib.camera_imu.CameraImuData` that
   :func:`boxplus.calib.camera_imu.calibrate_camera_imu` takes.
@@ -26,16 +27,17 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any, Callable, Protocol
 
 import numpy as np
 
 from boxplus.calib.camera_imu import CameraImuData
 from boxplus.calib.targets import Target
 
-__all__ = ["EurocRecording", "ImuNoise", "detect_recording", "read_euroc", "read_kalibr_imu",
+__all__ = ["EurocRecording", "ImuNoise", "Recording", "detect_recording", "read_euroc", "read_kalibr_imu",
            "read_kalibr_target"]
 
 
@@ -49,6 +51,29 @@ class EurocRecording:
     gyro: np.ndarray          # (N, 3) rad/s
     accel: np.ndarray         # (N, 3) m/s²
     origin_ns: int            # the first IMU timestamp (ns): time 0
+
+    def frames(self) -> Iterator[tuple[str, np.ndarray]]:
+        """(the file's name, the grey image) of every frame, in time order."""
+        from boxplus._optional import require
+
+        cv2 = require("cv2", "reading camera images")
+        for path in self.images:
+            gray = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+            if gray is None:
+                raise ValueError(f"{path}: not an image OpenCV can read")
+            yield str(path), gray
+
+
+class Recording(Protocol):
+    """What :func:`detect_recording` takes: an :class:`EurocRecording` or a
+    :class:`boxplus.calib.bags.BagRecording`."""
+
+    frame_times: np.ndarray
+    imu_times: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+
+    def frames(self) -> Iterator[tuple[str, np.ndarray]]: ...
 
 
 @dataclass
@@ -189,22 +214,20 @@ def read_kalibr_target(path: str | Path) -> Target:
                      f"'aprilgrid')")
 
 
-def detect_recording(recording: EurocRecording, target: Target,
+def detect_recording(recording: Recording, target: Target,
                      progress: Callable[[int, int], None] | None = None) -> CameraImuData:
-    """The target's corners in every image of ``recording`` (frames without the target
-    are kept, as None); ``progress(done, total)`` is called after each image."""
-    from boxplus._optional import require
-
-    cv2 = require("cv2", "calib")
+    """The target's corners in every image of ``recording`` (an EuRoC folder's or a
+    bag's; frames without the target are kept, as None); ``progress(done, total)`` is
+    called after each image."""
     corners: list[Any] = []
-    for i, path in enumerate(recording.images):
-        gray = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
-        if gray is None:
-            raise ValueError(f"{path}: not an image OpenCV can read")
+    total = len(recording.frame_times)
+    for i, (_, gray) in enumerate(recording.frames()):
         found = target.detect(gray)
         corners.append(None if found is None else (np.asarray(found[0], float),
                                                    np.asarray(found[1], float)))
         if progress is not None:
-            progress(i + 1, len(recording.images))
+            progress(i + 1, total)
+    if len(corners) != total:
+        raise ValueError(f"the recording gave {len(corners)} images for {total} frame times")
     return CameraImuData(recording.frame_times, corners, recording.imu_times, recording.gyro,
                          recording.accel)
