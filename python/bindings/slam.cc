@@ -256,6 +256,31 @@ lifetime tied to this object; ``report`` the LoadReport.
       .def_property_readonly(
           "num_edges", [](PoseGraph& pg) { return static_cast<int>(pg.graph().edges.size()); })
       .def_property_readonly("vertex_ids", &PoseGraph::vertex_ids)
+      .def(
+          "edge_chi2",
+          [](const PoseGraph& pg) {
+            const int m = static_cast<int>(pg.graph().edges.size());
+            py::array_t<double> out(m);
+            auto o = out.mutable_unchecked<1>();
+            for (int k = 0; k < m; ++k) o(k) = pg.EdgeChi2At(k);
+            return out;
+          },
+          "eᵀΩe of every edge at the current values (file order, the graph's convention): "
+          "which measurements carry the error.")
+      .def(
+          "edge_vertices",
+          [](const PoseGraph& pg) {
+            const auto& edges = pg.graph().edges;
+            py::array_t<int64_t> out({static_cast<py::ssize_t>(edges.size()), py::ssize_t{2}});
+            auto o = out.mutable_unchecked<2>();
+            for (size_t k = 0; k < edges.size(); ++k) {
+              o(k, 0) = edges[k].from;
+              o(k, 1) = io::IsUnary(edges[k].kind) ? -1 : edges[k].to;
+            }
+            return out;
+          },
+          "(from, to) vertex ids of every edge of the file, file order; to = -1 for a file's "
+          "unary edge (a prior record).")
       .def_property_readonly("gauge_vertex", &PoseGraph::gauge_vertex)
       .def_property_readonly(
           "convention",

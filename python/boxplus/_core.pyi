@@ -1473,6 +1473,14 @@ class PoseGraph:
         """
         χ² / (residuals − free tangent dimensions) at the current values: ≈ 1 for a graph whose information matrices fit its errors; NaN without degrees of freedom.
         """
+    def edge_chi2(self) -> numpy.typing.NDArray[numpy.float64]:
+        """
+        eᵀΩe of every edge at the current values (file order, the graph's convention): which measurements carry the error.
+        """
+    def edge_vertices(self) -> numpy.typing.NDArray[numpy.int64]:
+        """
+        (from, to) vertex ids of every edge of the file, file order; to = -1 for a file's unary edge (a prior record).
+        """
     def fix(self, vertex_id: typing.SupportsInt | typing.SupportsIndex, fixed: bool = True) -> None:
         ...
     def landmarks(self) -> typing.Annotated[numpy.typing.NDArray[numpy.float64], "[m, n]"]:

@@ -66,6 +66,26 @@ def test_numpy_reference_matches_cpp_at_the_file_estimate():
     assert g2o_ref.chi2_log(data, data["poses"]) == pytest.approx(g.chi2("log"), rel=1e-12)
 
 
+def test_edge_chi2_names_the_edges_that_carry_the_error(tmp_path):
+    g = slam.load_g2o(DATA / "smallGrid3D.g2o", init="file")
+    per_edge, ends = g.edge_chi2(), g.edge_vertices()
+    assert per_edge.shape == (g.num_edges,) and ends.shape == (g.num_edges, 2)
+    assert per_edge.sum() == pytest.approx(g.chi2(), rel=1e-12) and np.all(per_edge >= 0)
+    lines = [ln.split() for ln in (DATA / "smallGrid3D.g2o").read_text().splitlines()
+             if ln.startswith("EDGE_SE3")]
+    np.testing.assert_array_equal(ends, [[int(ln[1]), int(ln[2])] for ln in lines])
+    # one measurement moved by a metre: at the same poses only its eᵀΩe changes
+    before, wrong = per_edge, 17
+    lines[wrong][3] = str(float(lines[wrong][3]) + 1.0)
+    text = (DATA / "smallGrid3D.g2o").read_text().splitlines()
+    path = tmp_path / "one_wrong.g2o"
+    path.write_text("\n".join([ln for ln in text if not ln.startswith("EDGE_SE3")]
+                              + [" ".join(ln) for ln in lines]) + "\n")
+    g = slam.load_g2o(path, init="file")
+    changed = np.flatnonzero(g.edge_chi2() != before)
+    assert changed.tolist() == [wrong] and g.edge_chi2()[wrong] > before[wrong] + 1
+
+
 def _sesync_objective_loop(data, poses):
     """SE-Sync's f edge by edge, written from its definition (rotation matrices by scipy)."""
     from scipy.spatial.transform import Rotation
