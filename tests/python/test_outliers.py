@@ -34,6 +34,18 @@ def _judged_mask(g: gen.GeneratedGraph, verdicts) -> np.ndarray:
     return judged
 
 
+def _assert_inliers_answer(g: gen.GeneratedGraph, graph, tmp_path) -> float:
+    """The judging found the wrong closures and the inliers' ATE; returns that ATE."""
+    precision, recall = outlier_scores(_judged_mask(g, graph.outliers), g.is_outlier)
+    assert recall >= 0.99 and precision >= 0.95, (precision, recall)
+    _inliers_only(g).write(tmp_path / "inliers.g2o")
+    reference = slam.load_g2o(tmp_path / "inliers.g2o", outliers="off")
+    reference.solve()
+    found = ate(graph.poses(), g.truth)
+    assert found <= 1.05 * ate(reference.poses(), g.truth)
+    return found
+
+
 @pytest.mark.parametrize("model", ["random", "clustered"])
 @pytest.mark.parametrize("family,dim,fraction", [("manhattan", 2, 0.2), ("random_walk", 2, 0.5),
                                                  ("sphere", 3, 0.2)])
@@ -47,18 +59,12 @@ def test_default_recovers_the_inliers_answer(tmp_path, family, dim, fraction, mo
     assert summary.usable
     report = graph.outlier_report
     assert report.ran and report.method == "gnc-tls"
-    precision, recall = outlier_scores(_judged_mask(g, graph.outliers), g.is_outlier)
-    assert recall >= 0.99 and precision >= 0.95, (precision, recall)
-
-    _inliers_only(g).write(tmp_path / "inliers.g2o")
-    reference = slam.load_g2o(tmp_path / "inliers.g2o", outliers="off")
-    reference.solve()
-    assert ate(graph.poses(), g.truth) <= 1.05 * ate(reference.poses(), g.truth)
+    found = _assert_inliers_answer(g, graph, tmp_path)
     # Without the judging, the least-squares answer is far off (one solve from
     # the odometry: the restarts of init='best' hunt lower minima for a minute).
     plain = slam.load_g2o(path, outliers="off", init="file")
     plain.solve()
-    assert ate(plain.poses(), g.truth) > 3 * ate(graph.poses(), g.truth)
+    assert ate(plain.poses(), g.truth) > 3 * found
 
 
 def test_a_consistent_graph_is_solved_as_before(tmp_path):
@@ -69,6 +75,36 @@ def test_a_consistent_graph_is_solved_as_before(tmp_path):
     a, b = auto.solve(), off.solve()
     assert not auto.outlier_report.ran and auto.outliers == []
     assert a.final_chi2 == b.final_chi2 and a.iterations == b.iterations
+
+
+@pytest.mark.parametrize("family,dim,factor", [("manhattan", 2, 50), ("sphere", 3, 20000)])
+def test_wrong_closures_are_judged_when_the_information_is_under_confident(tmp_path, family, dim,
+                                                                           factor):
+    """Information under-confident as intel's (50×) and parking-garage's (2·10⁴×) is: 5 % wrong
+    closures leave χ²/dof below 10, yet a closure far beyond its χ² bound makes the
+    default judge; the same graphs without wrong closures, under- or over-confident,
+    are solved as before."""
+    g = gen.generate(family, dim, 400 if dim == 2 else 300, noise="medium" if dim == 2 else "low",
+                     outlier_fraction=0.05, seed=7)
+    g = dataclasses.replace(g, information=g.information / factor)
+    path = tmp_path / "graph.g2o"
+    g.write(path)
+    plain = slam.load_g2o(path, outliers="off", init="file")
+    plain.restart_when_implausible = False
+    plain.solve()
+    assert plain.chi2_per_dof() < slam.IMPLAUSIBLE_CHI2_PER_DOF  # the old trigger was silent
+    graph = slam.load_g2o(path)
+    summary = graph.solve()
+    assert graph.outlier_report.ran and "times its chi2 bound" in summary.message
+    assert ate(plain.poses(), g.truth) > 3 * _assert_inliers_answer(g, graph, tmp_path)
+    for scale in (1 / factor, 5.0):  # clean: under-confident, and over-confident (χ²/dof ≈ 5)
+        clean = dataclasses.replace(_inliers_only(g), information=g.information * factor * scale)
+        clean.write(tmp_path / "clean.g2o")
+        auto = slam.load_g2o(tmp_path / "clean.g2o")
+        off = slam.load_g2o(tmp_path / "clean.g2o", outliers="off")
+        a, b = auto.solve(), off.solve()
+        assert not auto.outlier_report.ran, (scale, a.message)
+        assert a.final_chi2 == b.final_chi2
 
 
 def test_modes_and_threshold(tmp_path):

@@ -188,7 +188,8 @@ inline std::optional<int> ParseCommandLine(int argc, char** argv, CommandLine* c
       ->type_name("W");
   app.add_option("--outlier-mode", cl->outlier_mode,
                  "wrong loop closures: auto (default: when the least-\n"
-                 "squares solution is implausible, chi2/dof > 10, judge\n"
+                 "squares solution is implausible, chi2/dof > 10 or a\n"
+                 "loop closure far beyond its chi2 bound, judge\n"
                  "the loop closures by graduated non-convexity with\n"
                  "truncated least squares and return the inliers'\n"
                  "optimum), gnc-tls or gnc-gm (always), off (never: the\n"

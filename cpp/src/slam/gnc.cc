@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -73,6 +74,64 @@ std::vector<char> JudgedEdges(const io::Graph& g, bool odometry_inliers) {
 }
 
 }  // namespace
+
+int PoseGraph::ImplausibleClosure(double* excess) const {
+  const std::vector<char> judged = JudgedEdges(graph_, outlier_options_.odometry_inliers);
+  const int m = static_cast<int>(graph_.edges.size());
+  std::vector<int> closures;
+  for (int k = 0; k < m; ++k) {
+    if (judged[k]) closures.push_back(k);
+  }
+  if (excess != nullptr) *excess = 0;
+  if (closures.empty()) return -1;
+  // Per error dimension: the Bonferroni bound and χ²(d)'s median.
+  double bound[7] = {}, median[7] = {};
+  std::vector<double> chi2(closures.size()), relative(closures.size());
+  for (size_t i = 0; i < closures.size(); ++i) {
+    const int dof = io::ErrorSize(graph_.edges[closures[i]].kind);
+    if (bound[dof] == 0) {
+      bound[dof] = ChiSquaredQuantile(
+          dof, 1 - kImplausibleClosureFalseAlarm / static_cast<double>(closures.size()));
+      median[dof] = ChiSquaredQuantile(dof, 0.5);
+    }
+    chi2[i] = EdgeChi2At(closures[i]);
+    relative[i] = chi2[i] / median[dof];
+  }
+  // Information over-confident by a factor raises every edge's χ² by it:
+  // the bound follows, so that such a graph is judged by its spread, not its
+  // scale. The factor is the smaller of the closures' and the other edges'
+  // (odometry's) median χ² over χ²(d)'s: wrong closures raise both medians
+  // at the least-squares solution, the odometry's less (torus3D with 20 %
+  // clustered wrong closures: 4.9 and 1.5). An under-confident graph keeps
+  // the bound (its heavy tails are then harmless).
+  auto median_of = [](std::vector<double>& v) -> double {
+    if (v.empty()) return std::numeric_limits<double>::infinity();
+    auto middle = v.begin() + v.size() / 2;
+    std::nth_element(v.begin(), middle, v.end());
+    return *middle;
+  };
+  std::vector<double> others;
+  for (int k = 0; k < m; ++k) {
+    if (judged[k] || io::IsUnary(graph_.edges[k].kind)) continue;
+    const int dof = io::ErrorSize(graph_.edges[k].kind);
+    if (median[dof] == 0) median[dof] = ChiSquaredQuantile(dof, 0.5);
+    others.push_back(EdgeChi2At(k) / median[dof]);
+  }
+  const double factor = std::min(median_of(relative), median_of(others));
+  const double scale = std::isfinite(factor) ? std::max(1.0, factor) : 1.0;
+  int worst = -1;
+  double most = 0;
+  for (size_t i = 0; i < closures.size(); ++i) {
+    const double ratio = chi2[i] / (bound[io::ErrorSize(graph_.edges[closures[i]].kind)] * scale *
+                                    kImplausibleClosureMargin);
+    if (!(ratio <= most)) {  // NaN counts as implausible
+      most = std::isnan(ratio) ? INFINITY : ratio;
+      worst = closures[i];
+    }
+  }
+  if (excess != nullptr) *excess = most;
+  return most > 1 ? worst : -1;
+}
 
 SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
                                  const CountedSolve& solve, const bool& interrupted) {
@@ -258,6 +317,39 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
           tried[k] = 1;
           changed = true;
         }
+      }
+    }
+    // The inliers' optimum is also sought from the chordal relaxation of the
+    // inlier graph, as the default start of a clean file is; the lower χ²
+    // wins. GNC's estimate grew from the odometry: on torus3D with 5 % wrong
+    // closures added, every decision right, its solve stopped in a minimum
+    // 5 m (ATE) from the clean file's optimum.
+    if (!interrupted && final_solve.usable) {
+      io::Graph inliers = graph_;
+      inliers.edges.clear();
+      for (int k = 0; k < m; ++k) {
+        if (!judged[k] || inlier[k]) inliers.edges.push_back(graph_.edges[k]);
+      }
+      for (size_t i = 0; i < inliers.vertices.size(); ++i) inliers.vertices[i].estimate = x[i];
+      bool built = true;
+      try {
+        InitializeChordal(&inliers, gauge_vertex_);
+      } catch (const Error&) {
+        built = false;  // no relaxation (a singular system): GNC's estimate stands
+      }
+      if (built) {
+        const std::vector<Eigen::VectorXd> from_gnc = x;
+        for (size_t i = 0; i < x.size(); ++i) x[i] = inliers.vertices[i].estimate;
+        rebuild();
+        push_weights();
+        const SolveSummary r = solve(w->problem_, 0);
+        if (r.usable && std::isless(r.final_cost, final_solve.final_cost)) {
+          final_solve = r;
+          x = w->Values();
+        } else {
+          x = from_gnc;
+        }
+        residuals();
       }
     }
   }

@@ -144,7 +144,12 @@ SolveSummary PoseGraph::Solve(const SolverOptions& caller) {
   }
   if (!Completed(first) || (!restart && !forced_gnc)) return first;
   const double per_dof = Chi2PerDof();
-  if (!forced_gnc && !(per_dof > kImplausibleChi2PerDof)) return first;
+  // In auto mode a single closure far beyond its χ² bound is as implausible
+  // as a large χ²/dof (pose_graph.h); the restarts (kOff) keep χ²/dof alone.
+  double closure_excess = 0;
+  const int implausible_closure =
+      gnc_answers && !(per_dof > kImplausibleChi2PerDof) ? ImplausibleClosure(&closure_excess) : -1;
+  if (!forced_gnc && !(per_dof > kImplausibleChi2PerDof) && implausible_closure < 0) return first;
 
   // The later solves continue the first's iteration count and clock, so that
   // a callback (boxplus-g2o's progress, a benchmark's trace) sees one run.
@@ -181,12 +186,20 @@ SolveSummary PoseGraph::Solve(const SolverOptions& caller) {
       return solve_counted(p, nullptr, max_iterations);
     };
     SolveSummary out = SolveGnc(forced_gnc ? mode : OutlierMode::kTls, first, counted, interrupted);
-    char head[200];
-    std::snprintf(head, sizeof head, "chi2/dof %.3g %s: chi2 %.10g; ", per_dof,
-                  forced_gnc  ? "at the start"
-                  : cut_short ? "> 10 after a cut-short solve, wrong loop closures?"
-                              : "> 10, wrong loop closures?",
-                  2 * first.final_cost);
+    char head[320];
+    if (implausible_closure >= 0) {
+      const io::Edge& e = graph_.edges[implausible_closure];
+      std::snprintf(head, sizeof head,
+                    "chi2/dof %.3g, but loop closure %d-%d (line %d) is %.3g times its chi2 "
+                    "bound, wrong loop closures?: chi2 %.10g; ",
+                    per_dof, e.from, e.to, e.line, closure_excess, 2 * first.final_cost);
+    } else {
+      std::snprintf(head, sizeof head, "chi2/dof %.3g %s: chi2 %.10g; ", per_dof,
+                    forced_gnc  ? "at the start"
+                    : cut_short ? "> 10 after a cut-short solve, wrong loop closures?"
+                                : "> 10, wrong loop closures?",
+                    2 * first.final_cost);
+    }
     out.message = std::string(head) + out.message;
     out.initial_cost = first.initial_cost;
     out.iterations = iterations;

@@ -225,8 +225,8 @@ def load_g2o(
     outliers : {'auto', 'gnc-tls', 'gnc-gm', 'off'}
         Wrong loop closures (:attr:`PoseGraph.outlier_mode`): 'auto' judges the
         loop closures by graduated non-convexity when the least-squares
-        solution is implausible (χ²/dof > 10) and returns the inliers'
-        optimum; 'gnc-tls' / 'gnc-gm' always; 'off' never (the lowest
+        solution is implausible (χ²/dof > 10, or a loop closure far beyond
+        its χ² bound: docs/guide/slam.md) and returns the inliers' optimum; 'gnc-tls' / 'gnc-gm' always; 'off' never (the lowest
         least-squares minimum). After :meth:`PoseGraph.solve`,
         :attr:`PoseGraph.outliers` lists the edges judged wrong.
     inlier_probability : float
