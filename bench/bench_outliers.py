@@ -28,6 +28,11 @@ optimum; information copied from one of the file's own closures). Their truth is
 unknown, so the reference is the file's own optimum (``boxplus-g2o`` on the
 clean file) and the ATE column is the distance to it (m, after alignment).
 
+``--set scaled``: generated graphs whose files state the information wrongly, as real
+files do (parking-garage's is 2·10⁴× under-confident, intel's 50×): every edge's
+information 30× or 3000× too small, and optionally each edge's off by its own
+log-uniform factor in [1/10, 10]; 2D/3D, 5–50 % wrong closures.
+
 Columns: ATE (m, RMS position error after alignment to the truth), ATE over
 the inlier-only ATE, precision and recall of the edges judged wrong (boxplus:
 the --outliers list; GTSAM: weight < ½; g2o gives no decision), time (s,
@@ -36,7 +41,7 @@ building of the problem), and boxplus' time over GTSAM GNC-TLS's. A peer's
 run stops at a cap (``--cap`` s, default 300) and is then a miss. Rows go to a
 JSON as they come; ``--summarise JSON`` prints an earlier run's table.
 
-usage: python bench/bench_outliers.py [--set quick|full|shared] [--only SUBSTR ...]
+usage: python bench/bench_outliers.py [--set quick|full|shared|scaled] [--only SUBSTR ...]
         [--max-poses N] [--cap S] [--no-peers] [--kernels K ...] [--json PATH]
         [--summarise JSON]
 """
@@ -69,6 +74,20 @@ PEERS = ("gtsam gnc-tls", "gtsam gnc-gm", "g2o cauchy", "g2o dcs")
 
 def graph_set(name: str) -> list[dict]:
     """The generated graphs: (family, dim, poses, noise, density) × fractions × models."""
+    if name == "scaled":
+        # Information the file states wrongly: every edge's 30× or 3000× under-confident,
+        # and besides each edge's off by a log-uniform factor in [1/10, 10] (real front
+        # ends' covariances are rarely right edge by edge).
+        rows = []
+        for family, dim, n, noise in (("manhattan", 2, 1000, "medium"), ("sphere", 3, 1000, "low"),
+                                      ("grid", 3, 1000, "low")):
+            for f, model in ((0.05, "random"), (0.2, "random"), (0.2, "clustered"), (0.5, "random")):
+                for factor in (1 / 30, 1 / 3000):
+                    for spread in (1.0, 10.0):
+                        rows.append(dict(family=family, dimension=dim, num_poses=n, noise=noise,
+                                         outlier_fraction=f, outlier_model=model, seed=1,
+                                         information_factor=factor, information_spread=spread))
+        return rows
     if name == "quick":
         shapes = [("manhattan", 2, 1000, "medium", 1.0), ("sphere", 3, 1000, "low", 1.0)]
         fractions, models = (0.0, 0.2, 0.5), ("random", "clustered")
@@ -100,8 +119,26 @@ def shared_set() -> list[dict]:
 def label(spec: dict) -> str:
     if "file" in spec:
         return f"{spec['file']}-{round(100 * spec['outlier_fraction'])}%-{spec['outlier_model']}"
-    return (f"{spec['family']}-{spec['dimension']}d-{spec['num_poses']}-"
+    text = (f"{spec['family']}-{spec['dimension']}d-{spec['num_poses']}-"
             f"{round(100 * spec['outlier_fraction'])}%-{spec['outlier_model']}")
+    if spec.get("information_factor", 1.0) != 1.0:
+        text += f"-under{round(1 / spec['information_factor'])}x"
+    if spec.get("information_spread", 1.0) != 1.0:
+        text += f"-spread{spec['information_spread']:g}"
+    return text
+
+
+def misstate_information(path: Path, dim: int, spread: float, rng: np.random.Generator) -> None:
+    """Each edge's information times its own log-uniform factor in [1/spread, spread]."""
+    tag = "EDGE_SE2" if dim == 2 else "EDGE_SE3:QUAT"
+    head = 3 + (3 if dim == 2 else 7)  # tag, from, to, measurement
+    lines = path.read_text().splitlines()
+    for k, line in enumerate(lines):
+        if line.startswith(tag):
+            t = line.split()
+            r = float(np.exp(rng.uniform(-np.log(spread), np.log(spread))))
+            lines[k] = " ".join(t[:head] + [f"{float(v) * r:.9g}" for v in t[head:]])
+    path.write_text("\n".join(lines) + "\n")
 
 
 def boxplus_g2o() -> str:
@@ -236,14 +273,22 @@ def judged_edges(pairs, edges) -> np.ndarray | None:
 
 
 def bench_graph(spec: dict, work: Path, args) -> dict:
-    g = gen.generate(**spec)
+    options = {k: v for k, v in spec.items() if not k.startswith("information_")}
+    g = gen.generate(**options)
+    g = dataclasses.replace(g, information=g.information * spec.get("information_factor", 1.0))
     path = work / (label(spec) + ".g2o")
     g.write(path)
+    if spec.get("information_spread", 1.0) != 1.0:
+        misstate_information(path, g.dimension, spec["information_spread"],
+                             np.random.default_rng(spec["seed"] + 1))
     wrong = g.is_outlier
-    inliers = dataclasses.replace(g, edges=g.edges[~wrong], measurements=g.measurements[~wrong],
-                                  kind=g.kind[~wrong])
+    # The inliers' file: the same lines without the wrong closures' (the file's edges
+    # are g.edges in order, after the vertices and the FIX line).
+    lines = path.read_text().splitlines()
+    first_edge = len(lines) - len(g.edges)
     inlier_path = work / (label(spec) + "-inliers.g2o")
-    inliers.write(inlier_path)
+    inlier_path.write_text("\n".join(lines[:first_edge] + [
+        line for line, bad in zip(lines[first_edge:], wrong) if not bad]) + "\n")
     row = {"graph": label(spec), **spec, "outliers": int(wrong.sum()),
            "closures": g.num_loop_closures}
     ref = run_boxplus(inlier_path, g.dimension, ["--outlier-mode", "off"])
@@ -418,7 +463,7 @@ def main(argv=None) -> int:
         _peer_main(sys.argv[2], sys.argv[3], int(sys.argv[4]), sys.argv[5])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--set", choices=("quick", "full", "shared"), default="full")
+    ap.add_argument("--set", choices=("quick", "full", "shared", "scaled"), default="full")
     ap.add_argument("--shared", type=Path, default=HERE.parents[1] / "shared" / "data" / "slam")
     ap.add_argument("--only", nargs="*", default=[])
     ap.add_argument("--max-poses", type=int, default=None)

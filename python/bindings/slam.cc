@@ -162,12 +162,16 @@ What loading a pose graph did (boxplus::slam::LoadReport): the reader's counts
 What the last solve decided about wrong loop closures
 (boxplus::slam::OutlierReport; docs/guide/slam.md "Wrong loop closures"):
 ``ran`` (GNC ran), ``method`` ('gnc-tls' / 'gnc-gm'), ``threshold`` (c̄² of
-a 2D/3D pose edge: eᵀΩe above it is an outlier), ``candidates`` (loop
-closures judged), ``rounds``, ``outliers`` (EdgeVerdict list, file order).
+a 2D/3D pose edge, times ``information_scale``: eᵀΩe above it is an
+outlier), ``information_scale`` (1, or the inliers' χ²/dof when it showed
+the file's information under-confident and GNC judged again in those
+units), ``candidates`` (loop closures judged), ``rounds``, ``outliers``
+(EdgeVerdict list, file order).
 )doc")
       .def_readonly("ran", &slam::OutlierReport::ran)
       .def_readonly("method", &slam::OutlierReport::method)
       .def_readonly("threshold", &slam::OutlierReport::threshold)
+      .def_readonly("information_scale", &slam::OutlierReport::information_scale)
       .def_readonly("candidates", &slam::OutlierReport::candidates)
       .def_readonly("rounds", &slam::OutlierReport::rounds)
       .def_readonly("outliers", &slam::OutlierReport::outliers)

@@ -1392,8 +1392,11 @@ class OutlierReport:
     What the last solve decided about wrong loop closures
     (boxplus::slam::OutlierReport; docs/guide/slam.md "Wrong loop closures"):
     ``ran`` (GNC ran), ``method`` ('gnc-tls' / 'gnc-gm'), ``threshold`` (c̄² of
-    a 2D/3D pose edge: eᵀΩe above it is an outlier), ``candidates`` (loop
-    closures judged), ``rounds``, ``outliers`` (EdgeVerdict list, file order).
+    a 2D/3D pose edge, times ``information_scale``: eᵀΩe above it is an
+    outlier), ``information_scale`` (1, or the inliers' χ²/dof when it showed
+    the file's information under-confident and GNC judged again in those
+    units), ``candidates`` (loop closures judged), ``rounds``, ``outliers``
+    (EdgeVerdict list, file order).
     """
     def __repr__(self) -> str:
         ...
@@ -1403,6 +1406,9 @@ class OutlierReport:
         """
     @property
     def candidates(self) -> int:
+        ...
+    @property
+    def information_scale(self) -> float:
         ...
     @property
     def method(self) -> str:

@@ -265,6 +265,10 @@ TEST(Gnc, TheOutlierFileNamesLinesAndIds) {
   EXPECT_THAT(text, ::testing::HasSubstr("graph.g2o"));
   EXPECT_THAT(text, ::testing::HasSubstr("1 of 4 loop closures"));
   EXPECT_THAT(text, ::testing::EndsWith("\n17 2 9 1234.5 0\n"));
+  EXPECT_THAT(text, ::testing::Not(::testing::HasSubstr("under-confident")));
+  r.information_scale = 2.5e-4;  // GNC judged again in the inliers' units
+  EXPECT_THAT(FormatOutliers(r, "graph.g2o"),
+              ::testing::HasSubstr("under-confident: thresholds x 0.00025"));
   EXPECT_THAT(FormatOutliers(OutlierReport{}, "g"), ::testing::HasSubstr("did not run"));
 }
 

@@ -107,6 +107,33 @@ def test_wrong_closures_are_judged_when_the_information_is_under_confident(tmp_p
         assert a.final_chi2 == b.final_chi2
 
 
+def test_thresholds_follow_information_the_inliers_show_under_confident(tmp_path):
+    """Information 3000× under-confident: wrong closures pass under χ² thresholds in the
+    file's units (half of this graph's closures are wrong; the verdict in those units
+    ended 15× the inliers' ATE). GNC judges again with the thresholds times the inliers'
+    χ²/dof; the same graph with its information right is judged once, in its units."""
+    g = gen.generate("grid", 3, 300, noise="low", outlier_fraction=0.5, seed=1)
+    g.write(tmp_path / "right.g2o")
+    right = slam.load_g2o(tmp_path / "right.g2o")
+    right.solve()
+    assert right.outlier_report.ran and right.outlier_report.information_scale == 1.0
+    threshold = right.outlier_report.threshold
+    _assert_inliers_answer(g, right, tmp_path)
+
+    g = dataclasses.replace(g, information=g.information / 3000)
+    g.write(tmp_path / "graph.g2o")
+    graph = slam.load_g2o(tmp_path / "graph.g2o")
+    summary = graph.solve()
+    report = graph.outlier_report
+    assert 1 / 3000 / 3 < report.information_scale < 3 / 3000, report.information_scale
+    assert report.threshold == pytest.approx(threshold * report.information_scale)
+    assert "the information is under-confident" in summary.message
+    _assert_inliers_answer(g, graph, tmp_path)
+    subprocess.run([boxplus_g2o(), "-q", str(tmp_path / "graph.g2o"), "-o", str(tmp_path / "o.g2o"),
+                    "--outliers", str(tmp_path / "wrong.txt")], check=True)
+    assert "# the file's information is under-confident" in (tmp_path / "wrong.txt").read_text()
+
+
 def test_modes_and_threshold(tmp_path):
     g = gen.generate("manhattan", 2, 300, outlier_fraction=0.2, seed=5)
     g.write(tmp_path / "g.g2o")

@@ -136,6 +136,53 @@ int PoseGraph::ImplausibleClosure(double* excess) const {
   return most > 1 ? worst : -1;
 }
 
+double PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
+                              const std::vector<char>& judged,
+                              const std::vector<char>& inlier) const {
+  // The inliers' χ²/dof, each edge's χ² capped at kImplausibleClosureMargin
+  // times its Bonferroni bound (χ²(d) at 1 − kImplausibleClosureFalseAlarm /
+  // edges, as ImplausibleClosure judges a closure) times the scale itself: a
+  // fixed point from the plain mean. Wrong closures the verdict kept, each
+  // just under the file's threshold, would otherwise keep the scale high
+  // (parking-garage with 20 % clustered wrong closures: 0.86 with them,
+  // 4.5e-5 without); an inlier is very unlikely to reach the cap.
+  std::vector<double> chi2;
+  std::vector<int> dims;
+  double dof = 0;
+  for (size_t k = 0; k < graph_.edges.size(); ++k) {
+    if (judged[k] && !inlier[k]) continue;
+    const io::Edge& e = graph_.edges[k];
+    chi2.push_back(EdgeChi2(e, x[graph_.EndIndex(e, 0)].data(), x[graph_.EndIndex(e, 1)].data(),
+                            options_.convention));
+    dims.push_back(io::ErrorSize(e.kind));
+    dof += dims.back();
+  }
+  for (const int v : var_of_vertex_) {
+    if (!problem_.IsFixed(v)) dof -= problem_.manifold(v).TangentSize();
+  }
+  if (!(dof > 0)) return std::numeric_limits<double>::quiet_NaN();
+  double bound[7] = {};
+  std::vector<double> cap(chi2.size());
+  for (size_t i = 0; i < chi2.size(); ++i) {
+    double& b = bound[dims[i]];
+    if (b == 0) {
+      b = kImplausibleClosureMargin *
+          ChiSquaredQuantile(dims[i], 1 - kImplausibleClosureFalseAlarm / chi2.size());
+    }
+    cap[i] = b;
+  }
+  double scale = std::accumulate(chi2.begin(), chi2.end(), 0.0) / dof;
+  for (int iteration = 0; iteration < 100 && std::isfinite(scale) && scale > 0; ++iteration) {
+    double sum = 0;
+    for (size_t i = 0; i < chi2.size(); ++i) sum += std::min(chi2[i], cap[i] * scale);
+    const double next = sum / dof;
+    const bool settled = std::abs(next - scale) <= 1e-3 * scale;
+    scale = next;
+    if (settled) break;
+  }
+  return scale;
+}
+
 SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
                                  const CountedSolve& solve, const bool& interrupted) {
   const OutlierOptions& opt = outlier_options_;
@@ -161,16 +208,11 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     if (q == 0) q = ChiSquaredQuantile(dof, p);
     return q;
   };
-  std::vector<double> threshold(m);
-  for (int k = 0; k < m; ++k) {
-    threshold[k] = quantile(io::ErrorSize(graph_.edges[k].kind), opt.inlier_probability);
-  }
-
   // GNC graduates from the estimate of the known inliers alone (the
   // odometry composed): a start no loop closure has pulled. The least-squares
   // solution of every edge is not one: with wrong closures it may sit in a
   // basin GNC does not leave (a chordal start made it so on generated graphs).
-  std::vector<Eigen::VectorXd> x;
+  std::vector<Eigen::VectorXd> start;
   {
     io::Graph known = graph_;
     known.edges.clear();
@@ -179,184 +221,235 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     }
     WriteBackTo(&known);
     InitializeSpanningTree(&known, gauge_vertex_);
-    x.reserve(known.vertices.size());
-    for (const io::Vertex& v : known.vertices) x.push_back(v.estimate);
+    start.reserve(known.vertices.size());
+    for (const io::Vertex& v : known.vertices) start.push_back(v.estimate);
   }
 
-  // The weighted problem holds the known inliers and the closures whose
-  // weight is not 0: a closure at weight 0 only adds fill to the
-  // factorisation (random wrong closures make a sparse graph nearly dense).
-  std::vector<double> weight(m, 1.0);
-  std::unique_ptr<PoseGraph> w;
-  std::vector<int> in_problem;  // graph edge of each of w's edges
-  auto rebuild = [&] {
-    io::Graph sub = graph_;
-    sub.edges.clear();
-    in_problem.clear();
+  // One graduation with the inlier thresholds c̄² × scale, and its verdict.
+  struct Attempt {
+    std::vector<Eigen::VectorXd> x;
+    std::vector<double> weight;
+    std::vector<char> inlier;
+    int rounds = 0;
+    bool failed = false;  // a solve failed: x is the last usable estimate
+    SolveSummary solve;
+  };
+  auto graduate = [&](double scale) {
+    Attempt a;
+    std::vector<double> threshold(m);
     for (int k = 0; k < m; ++k) {
-      if (weight[k] > 0.0) {
-        sub.edges.push_back(graph_.edges[k]);
-        in_problem.push_back(k);
-      }
+      threshold[k] = scale * quantile(io::ErrorSize(graph_.edges[k].kind), opt.inlier_probability);
     }
-    PoseGraphOptions plain = options_;
-    plain.robust = "none";
-    w.reset(new PoseGraph(std::move(sub), plain, Weighted{}));
-    for (size_t i = 0; i < var_of_vertex_.size(); ++i) {
-      w->problem_.SetFixed(w->var_of_vertex_[i], problem_.IsFixed(var_of_vertex_[i]));
-    }
-    w->SetValues(x);
-  };
-  auto push_weights = [&] {
-    for (size_t j = 0; j < in_problem.size(); ++j) w->edge_weights_[j] = weight[in_problem[j]];
-  };
-  std::vector<double> s(m, 0.0);
-  auto residuals = [&] {  // s at x, of every closure (in the problem or not)
-    double largest = 0;
-    for (int k : candidates) {
-      const io::Edge& e = graph_.edges[k];
-      s[k] = EdgeChi2(e, x[graph_.EndIndex(e, 0)].data(), x[graph_.EndIndex(e, 1)].data(),
-                      options_.convention) /
-             threshold[k];
-      if (!std::isfinite(s[k])) s[k] = INFINITY;
-      largest = std::max(largest, std::isfinite(s[k]) ? s[k] : 0.0);
-    }
-    return largest;
-  };
+    std::vector<Eigen::VectorXd>& x = a.x;
+    x = start;
 
-  std::string message;
-  const double largest = residuals();
-  int rounds = 0;
-  bool stopped_by_failure = false;
-  SolveSummary last = first;
-  if (largest > 1) {
-    rebuild();
-    // μ₀ makes the surrogate convex over every residual present (Yang et
-    // al., Remark 5).
-    double mu = tls ? std::max(1e-6, 1.0 / (2 * largest - 1)) : 2 * largest;
-    double previous_cost = INFINITY;
-    while (rounds < opt.max_rounds && !interrupted) {
-      bool binary = true;
-      int readmitted = 0;
+    // The weighted problem holds the known inliers and the closures whose
+    // weight is not 0: a closure at weight 0 only adds fill to the
+    // factorisation (random wrong closures make a sparse graph nearly dense).
+    std::vector<double>& weight = a.weight;
+    weight.assign(m, 1.0);
+    std::unique_ptr<PoseGraph> w;
+    std::vector<int> in_problem;  // graph edge of each of w's edges
+    auto rebuild = [&] {
+      io::Graph sub = graph_;
+      sub.edges.clear();
+      in_problem.clear();
+      for (int k = 0; k < m; ++k) {
+        if (weight[k] > 0.0) {
+          sub.edges.push_back(graph_.edges[k]);
+          in_problem.push_back(k);
+        }
+      }
+      PoseGraphOptions plain = options_;
+      plain.robust = "none";
+      w.reset(new PoseGraph(std::move(sub), plain, Weighted{}));
+      for (size_t i = 0; i < var_of_vertex_.size(); ++i) {
+        w->problem_.SetFixed(w->var_of_vertex_[i], problem_.IsFixed(var_of_vertex_[i]));
+      }
+      w->SetValues(x);
+    };
+    auto push_weights = [&] {
+      for (size_t j = 0; j < in_problem.size(); ++j) w->edge_weights_[j] = weight[in_problem[j]];
+    };
+    std::vector<double> s(m, 0.0);
+    auto residuals = [&] {  // s at x, of every closure (in the problem or not)
+      double largest = 0;
       for (int k : candidates) {
-        const double wk = tls ? TlsWeight(s[k], mu) : GmWeight(s[k], mu);
-        binary = binary && (wk == 0.0 || wk == 1.0);
-        readmitted += wk > 0.0 && weight[k] == 0.0;
-        weight[k] = wk;
+        const io::Edge& e = graph_.edges[k];
+        s[k] = EdgeChi2(e, x[graph_.EndIndex(e, 0)].data(), x[graph_.EndIndex(e, 1)].data(),
+                        options_.convention) /
+               threshold[k];
+        if (!std::isfinite(s[k])) s[k] = INFINITY;
+        largest = std::max(largest, std::isfinite(s[k]) ? s[k] : 0.0);
       }
-      // Rebuilding costs about one iteration: worth it once a few percent
-      // of the problem's edges weigh nothing.
-      size_t idle = 0;
-      for (int k : in_problem) idle += weight[k] == 0.0;
-      if (readmitted > 0 || idle > std::max<size_t>(16, in_problem.size() / 50)) rebuild();
-      push_weights();
-      const SolveSummary r = solve(w->problem_, opt.iterations_per_round);
-      ++rounds;
-      if (!r.usable) {  // a failed step leaves the last usable estimate
-        stopped_by_failure = true;
-        break;
-      }
-      last = r;
-      x = w->Values();
-      residuals();
-      // Stop when the weights are binary (TLS), μ is 1 (GM: the surrogate
-      // is the cost itself), or the weighted cost no longer changes.
-      if (tls ? binary : mu <= 1.0) break;
-      if (std::isfinite(previous_cost) &&
-          std::abs(r.final_cost - previous_cost) <= 1e-5 * std::max(previous_cost, 1e-7)) {
-        break;
-      }
-      previous_cost = r.final_cost;
-      if (tls) {
-        mu = mu < opt.superlinear_until
-                 ? std::min(opt.superlinear_until, std::sqrt(mu) * opt.mu_step)
-                 : mu * opt.mu_step;
-      } else {
-        mu = std::max(1.0, mu / opt.mu_step);
-      }
-    }
-  }
-  outlier_report_.rounds = rounds;
+      return largest;
+    };
 
-  // The verdict, and the inliers' least-squares optimum: the closures within
-  // the threshold at GNC's estimate are solved alone; a closure kept that
-  // the optimum then puts above the threshold is dropped, and a rejected one
-  // it puts near (s ≤ kTryAgain) is tried once more with its own pull. A
-  // true closure GNC dropped may look wrong without itself: on generated
-  // graphs such closures had eᵀΩe 24–45 at the estimate without them and
-  // 5–8 at the optimum of all true closures.
-  constexpr double kTryAgain = 10.0;
-  SolveSummary final_solve = first;
-  final_solve.message.clear();
-  std::vector<char> inlier(m, 1);
-  std::vector<double> keep(m, 1.0);  // the verdict's threshold in units of c̄²
-  if (opt.keep_probability > opt.inlier_probability) {
-    for (int k : candidates) {
-      keep[k] = quantile(io::ErrorSize(graph_.edges[k].kind), opt.keep_probability) / threshold[k];
-    }
-  }
-  if (rounds > 0 && !interrupted && !stopped_by_failure) {
-    for (int k : candidates) inlier[k] = s[k] <= keep[k];
-    std::vector<char> tried(m, 0);
-    bool changed = true;
-    for (int pass = 0; pass < 5 && changed && !interrupted; ++pass) {
-      for (int k : candidates) weight[k] = inlier[k];
+    const double largest = residuals();
+    int& rounds = a.rounds;
+    bool& stopped_by_failure = a.failed;
+    SolveSummary last = first;
+    if (largest > 1) {
       rebuild();
-      push_weights();
-      const SolveSummary r = solve(w->problem_, 0);
-      if (!r.usable) break;
-      final_solve = r;
-      x = w->Values();
-      residuals();
-      changed = false;
-      if (pass == 4) break;  // the last pass only solves
-      for (int k : candidates) {
-        if (inlier[k] && s[k] > keep[k]) {
-          inlier[k] = 0;
-          tried[k] = 1;
-          changed = true;
-        } else if (!inlier[k] && !tried[k] && s[k] <= kTryAgain * keep[k]) {
-          inlier[k] = 1;
-          tried[k] = 1;
-          changed = true;
+      // μ₀ makes the surrogate convex over every residual present (Yang et
+      // al., Remark 5).
+      double mu = tls ? std::max(1e-6, 1.0 / (2 * largest - 1)) : 2 * largest;
+      double previous_cost = INFINITY;
+      while (rounds < opt.max_rounds && !interrupted) {
+        bool binary = true;
+        int readmitted = 0;
+        for (int k : candidates) {
+          const double wk = tls ? TlsWeight(s[k], mu) : GmWeight(s[k], mu);
+          binary = binary && (wk == 0.0 || wk == 1.0);
+          readmitted += wk > 0.0 && weight[k] == 0.0;
+          weight[k] = wk;
+        }
+        // Rebuilding costs about one iteration: worth it once a few percent
+        // of the problem's edges weigh nothing.
+        size_t idle = 0;
+        for (int k : in_problem) idle += weight[k] == 0.0;
+        if (readmitted > 0 || idle > std::max<size_t>(16, in_problem.size() / 50)) rebuild();
+        push_weights();
+        const SolveSummary r = solve(w->problem_, opt.iterations_per_round);
+        ++rounds;
+        if (!r.usable) {  // a failed step leaves the last usable estimate
+          stopped_by_failure = true;
+          break;
+        }
+        last = r;
+        x = w->Values();
+        residuals();
+        // Stop when the weights are binary (TLS), μ is 1 (GM: the surrogate
+        // is the cost itself), or the weighted cost no longer changes.
+        if (tls ? binary : mu <= 1.0) break;
+        if (std::isfinite(previous_cost) &&
+            std::abs(r.final_cost - previous_cost) <= 1e-5 * std::max(previous_cost, 1e-7)) {
+          break;
+        }
+        previous_cost = r.final_cost;
+        if (tls) {
+          mu = mu < opt.superlinear_until
+                   ? std::min(opt.superlinear_until, std::sqrt(mu) * opt.mu_step)
+                   : mu * opt.mu_step;
+        } else {
+          mu = std::max(1.0, mu / opt.mu_step);
         }
       }
     }
-    // The inliers' optimum is also sought from the chordal relaxation of the
-    // inlier graph, as the default start of a clean file is; the lower χ²
-    // wins. GNC's estimate grew from the odometry: on torus3D with 5 % wrong
-    // closures added, every decision right, its solve stopped in a minimum
-    // 5 m (ATE) from the clean file's optimum.
-    if (!interrupted && final_solve.usable) {
-      io::Graph inliers = graph_;
-      inliers.edges.clear();
-      for (int k = 0; k < m; ++k) {
-        if (!judged[k] || inlier[k]) inliers.edges.push_back(graph_.edges[k]);
+
+    // The verdict, and the inliers' least-squares optimum: the closures within
+    // the threshold at GNC's estimate are solved alone; a closure kept that
+    // the optimum then puts above the threshold is dropped, and a rejected one
+    // it puts near (s ≤ kTryAgain) is tried once more with its own pull. A
+    // true closure GNC dropped may look wrong without itself: on generated
+    // graphs such closures had eᵀΩe 24–45 at the estimate without them and
+    // 5–8 at the optimum of all true closures.
+    constexpr double kTryAgain = 10.0;
+    SolveSummary& final_solve = a.solve;
+    final_solve = first;
+    final_solve.message.clear();
+    std::vector<char>& inlier = a.inlier;
+    inlier.assign(m, 1);
+    std::vector<double> keep(m, 1.0);  // the verdict's threshold in units of c̄²
+    if (opt.keep_probability > opt.inlier_probability) {
+      for (int k : candidates) {
+        keep[k] = scale * quantile(io::ErrorSize(graph_.edges[k].kind), opt.keep_probability) /
+                  threshold[k];
       }
-      for (size_t i = 0; i < inliers.vertices.size(); ++i) inliers.vertices[i].estimate = x[i];
-      bool built = true;
-      try {
-        InitializeChordal(&inliers, gauge_vertex_);
-      } catch (const Error&) {
-        built = false;  // no relaxation (a singular system): GNC's estimate stands
-      }
-      if (built) {
-        const std::vector<Eigen::VectorXd> from_gnc = x;
-        for (size_t i = 0; i < x.size(); ++i) x[i] = inliers.vertices[i].estimate;
+    }
+    if (rounds > 0 && !interrupted && !stopped_by_failure) {
+      for (int k : candidates) inlier[k] = s[k] <= keep[k];
+      std::vector<char> tried(m, 0);
+      bool changed = true;
+      for (int pass = 0; pass < 5 && changed && !interrupted; ++pass) {
+        for (int k : candidates) weight[k] = inlier[k];
         rebuild();
         push_weights();
         const SolveSummary r = solve(w->problem_, 0);
-        if (r.usable && std::isless(r.final_cost, final_solve.final_cost)) {
-          final_solve = r;
-          x = w->Values();
-        } else {
-          x = from_gnc;
-        }
+        if (!r.usable) break;
+        final_solve = r;
+        x = w->Values();
         residuals();
+        changed = false;
+        if (pass == 4) break;  // the last pass only solves
+        for (int k : candidates) {
+          if (inlier[k] && s[k] > keep[k]) {
+            inlier[k] = 0;
+            tried[k] = 1;
+            changed = true;
+          } else if (!inlier[k] && !tried[k] && s[k] <= kTryAgain * keep[k]) {
+            inlier[k] = 1;
+            tried[k] = 1;
+            changed = true;
+          }
+        }
+      }
+      // The inliers' optimum is also sought from the chordal relaxation of the
+      // inlier graph, as the default start of a clean file is; the lower χ²
+      // wins. GNC's estimate grew from the odometry: on torus3D with 5 % wrong
+      // closures added, every decision right, its solve stopped in a minimum
+      // 5 m (ATE) from the clean file's optimum.
+      if (!interrupted && final_solve.usable) {
+        io::Graph inliers = graph_;
+        inliers.edges.clear();
+        for (int k = 0; k < m; ++k) {
+          if (!judged[k] || inlier[k]) inliers.edges.push_back(graph_.edges[k]);
+        }
+        for (size_t i = 0; i < inliers.vertices.size(); ++i) inliers.vertices[i].estimate = x[i];
+        bool built = true;
+        try {
+          InitializeChordal(&inliers, gauge_vertex_);
+        } catch (const Error&) {
+          built = false;  // no relaxation (a singular system): GNC's estimate stands
+        }
+        if (built) {
+          const std::vector<Eigen::VectorXd> from_gnc = x;
+          for (size_t i = 0; i < x.size(); ++i) x[i] = inliers.vertices[i].estimate;
+          rebuild();
+          push_weights();
+          const SolveSummary r = solve(w->problem_, 0);
+          if (r.usable && std::isless(r.final_cost, final_solve.final_cost)) {
+            final_solve = r;
+            x = w->Values();
+          } else {
+            x = from_gnc;
+          }
+          residuals();
+        }
       }
     }
+    return a;
+  };
+
+  // Thresholds in the file's units first. Information that the inliers show
+  // to be under-confident (their χ²/dof below kUnderConfidentScale) lets wrong
+  // closures pass under them: GNC then graduates again from the same start in
+  // the inliers' units, while that scale keeps halving (at most kMaxRescales
+  // times); a graduation that fails leaves the last verdict.
+  Attempt result = graduate(1.0);
+  double scale = 1.0;
+  int rounds = result.rounds;
+  for (int r = 0; r < kMaxRescales && result.rounds > 0 && !result.failed && result.solve.usable &&
+                  !interrupted;
+       ++r) {
+    const double sigma2 = InlierScale(result.x, judged, result.inlier);
+    if (!(sigma2 < kUnderConfidentScale * scale)) break;
+    Attempt next = graduate(sigma2);
+    rounds += next.rounds;
+    if (next.rounds == 0 || next.failed || !next.solve.usable || interrupted) break;
+    result = std::move(next);
+    scale = sigma2;
   }
-  if (rounds > 0) {
+  outlier_report_.rounds = rounds;
+  outlier_report_.information_scale = scale;
+  outlier_report_.threshold *= scale;
+  std::vector<Eigen::VectorXd>& x = result.x;
+  std::vector<double>& weight = result.weight;
+  std::vector<char>& inlier = result.inlier;
+  const bool stopped_by_failure = result.failed;
+  const SolveSummary& final_solve = result.solve;
+
+  if (result.rounds > 0) {
     SetValues(x);
   } else {
     std::fill(inlier.begin(), inlier.end(), 1);
@@ -368,13 +461,18 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     outlier_report_.outliers.push_back({k, e.line, e.from, e.to, weight[k], EdgeChi2At(k)});
   }
 
-  char line[240];
+  char rescaled[120] = "";
+  if (scale < 1) {
+    std::snprintf(rescaled, sizeof rescaled,
+                  " x %.3g, the inliers' chi2/dof: the information is under-confident", scale);
+  }
+  char line[360];
   std::snprintf(line, sizeof line,
                 "%s: %zu of %d loop closures judged wrong (eT.Omega.e > %.4g, chi2(%d) at p = "
-                "%g), %d rounds%s; chi2 of the inliers %.10g",
+                "%g%s), %d rounds%s; chi2 of the inliers %.10g",
                 outlier_report_.method.c_str(), outlier_report_.outliers.size(),
                 outlier_report_.candidates, outlier_report_.threshold,
-                graph_.dimension == 3 ? 6 : 3, opt.inlier_probability, rounds,
+                graph_.dimension == 3 ? 6 : 3, opt.inlier_probability, rescaled, rounds,
                 stopped_by_failure ? " (stopped: a solve failed)" : "", 2 * final_solve.final_cost);
   SolveSummary out = final_solve;
   out.message = std::string(line) + (final_solve.message.empty() ? "" : "; " + final_solve.message);

@@ -81,9 +81,17 @@ std::string FormatOutliers(const OutlierReport& r, const std::string& source) {
     return out + "# outlier rejection did not run (plausible graph, or --outlier-mode off)\n";
   std::snprintf(buf, sizeof buf,
                 "# %s: %zu of %d loop closures; an edge is wrong when e'Omega e > %.6g at the "
-                "inliers' optimum\n# line from to chi2 weight\n",
+                "inliers' optimum\n",
                 r.method.c_str(), r.outliers.size(), r.candidates, r.threshold);
   out += buf;
+  if (r.information_scale < 1) {
+    std::snprintf(buf, sizeof buf,
+                  "# the file's information is under-confident: thresholds x %.6g, the "
+                  "inliers' chi2/dof\n",
+                  r.information_scale);
+    out += buf;
+  }
+  out += "# line from to chi2 weight\n";
   for (const EdgeVerdict& v : r.outliers) {
     std::snprintf(buf, sizeof buf, "%d %d %d %.9g %.6g\n", v.line, v.from, v.to, v.chi2, v.weight);
     out += buf;

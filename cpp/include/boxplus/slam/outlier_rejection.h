@@ -48,6 +48,12 @@
 // exactly those (a few passes settle closures near the threshold: gnc.cc):
 // the result is the least-squares optimum of the inliers, not a weighted
 // compromise.
+//
+// The thresholds assume the file's information is right. Many files'
+// is far too small (parking-garage's 2·10⁴×), and wrong closures then pass
+// under them; after a verdict whose inliers' χ²/dof is below half the scale
+// the thresholds had, GNC graduates again with c̄² times that χ²/dof
+// (PoseGraph::InlierScale, kUnderConfidentScale in pose_graph.h).
 #pragma once
 
 #include <string>
@@ -103,7 +109,8 @@ struct EdgeVerdict {
 struct OutlierReport {
   bool ran = false;                   // GNC ran (mode, or auto on an implausible graph)
   std::string method;                 // "gnc-tls" / "gnc-gm"
-  double threshold = 0;               // c̄² of a d = 3 (2D) or 6 (3D) error
+  double threshold = 0;               // c̄² of a d = 3 (2D) or 6 (3D) error, × the scale below
+  double information_scale = 1;       // < 1: thresholds × the inliers' χ²/dof (pose_graph.h)
   int candidates = 0;                 // loop closures judged
   int rounds = 0;                     // GNC rounds
   std::vector<EdgeVerdict> outliers;  // the rejected edges, in edge order
