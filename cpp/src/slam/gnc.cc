@@ -422,10 +422,11 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
   };
 
   // Thresholds in the file's units first. Information that the inliers show
-  // to be under-confident (their χ²/dof below kUnderConfidentScale) lets wrong
-  // closures pass under them: GNC then graduates again from the same start in
-  // the inliers' units, while that scale keeps halving (at most kMaxRescales
-  // times); a graduation that fails leaves the last verdict.
+  // to be under-confident (their χ²/dof below kUnderConfidentScale times the
+  // thresholds' scale) lets wrong closures pass under them: GNC then
+  // graduates again from the same start in the inliers' units, at most
+  // kMaxRescales times; a graduation that fails or is interrupted leaves the
+  // last verdict.
   Attempt result = graduate(1.0);
   double scale = 1.0;
   int rounds = result.rounds;
