@@ -73,6 +73,12 @@ std::vector<char> JudgedEdges(const io::Graph& g, bool odometry_inliers) {
   return judged;
 }
 
+// The χ²(dof) quantile that one of `tests` errors of that dimension crosses
+// with probability below kImplausibleClosureFalseAlarm (a Bonferroni bound).
+double BonferroniBound(int dof, size_t tests) {
+  return ChiSquaredQuantile(dof, 1 - kImplausibleClosureFalseAlarm / static_cast<double>(tests));
+}
+
 }  // namespace
 
 int PoseGraph::ImplausibleClosure(double* excess) const {
@@ -90,8 +96,7 @@ int PoseGraph::ImplausibleClosure(double* excess) const {
   for (size_t i = 0; i < closures.size(); ++i) {
     const int dof = io::ErrorSize(graph_.edges[closures[i]].kind);
     if (bound[dof] == 0) {
-      bound[dof] = ChiSquaredQuantile(
-          dof, 1 - kImplausibleClosureFalseAlarm / static_cast<double>(closures.size()));
+      bound[dof] = BonferroniBound(dof, closures.size());
       median[dof] = ChiSquaredQuantile(dof, 0.5);
     }
     chi2[i] = EdgeChi2At(closures[i]);
@@ -157,17 +162,14 @@ double PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
     dims.push_back(io::ErrorSize(e.kind));
     dof += dims.back();
   }
-  for (const int v : var_of_vertex_) {
-    if (!problem_.IsFixed(v)) dof -= problem_.manifold(v).TangentSize();
-  }
+  dof -= FreeTangentSize();
   if (!(dof > 0)) return std::numeric_limits<double>::quiet_NaN();
   double bound[7] = {};
   std::vector<double> cap(chi2.size());
   for (size_t i = 0; i < chi2.size(); ++i) {
     double& b = bound[dims[i]];
     if (b == 0) {
-      b = kImplausibleClosureMargin *
-          ChiSquaredQuantile(dims[i], 1 - kImplausibleClosureFalseAlarm / chi2.size());
+      b = kImplausibleClosureMargin * BonferroniBound(dims[i], chi2.size());
     }
     cap[i] = b;
   }

@@ -405,12 +405,17 @@ SolverOptions DefaultSolverOptions() {
   return o;
 }
 
-double PoseGraph::DegreesOfFreedom() const {
-  long dof = 0;
-  for (const io::Edge& e : graph_.edges) dof += io::ErrorSize(e.kind);
+int PoseGraph::FreeTangentSize() const {
+  int size = 0;
   for (const int v : var_of_vertex_) {
-    if (!problem_.IsFixed(v)) dof -= problem_.manifold(v).TangentSize();
+    if (!problem_.IsFixed(v)) size += problem_.manifold(v).TangentSize();
   }
+  return size;
+}
+
+double PoseGraph::DegreesOfFreedom() const {
+  long dof = -FreeTangentSize();
+  for (const io::Edge& e : graph_.edges) dof += io::ErrorSize(e.kind);
   return static_cast<double>(dof);
 }
 

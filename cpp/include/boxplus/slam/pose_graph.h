@@ -183,6 +183,8 @@ class PoseGraph {
   // is over-determined.
   double InlierScale(const std::vector<Eigen::VectorXd>& x, const std::vector<char>& judged,
                      const std::vector<char>& inlier) const;
+  // Σ tangent sizes of the vertices not held fixed (the estimated dimensions).
+  int FreeTangentSize() const;
   // Copies the current values into another graph with the same vertices.
   void WriteBackTo(io::Graph* graph) const;
   OutlierOptions outlier_options_;
