@@ -18,6 +18,7 @@ from boxplus.calib import (
     write_camera_info,
     write_opencv_yaml,
 )
+from boxplus.calib.io import read_cameras
 
 cv2 = pytest.importorskip("cv2")
 pytest.importorskip("yaml")
@@ -90,6 +91,9 @@ def test_kalibr_camchain_round_trip(model, tmp_path):
     rig = _rig(model)
     write_camchain(tmp_path / "camchain.yaml", rig)
     _same(rig, read_camchain(tmp_path / "camchain.yaml"))
+    # read_cameras tries OpenCV's FileStorage first: a camchain is not its file (this
+    # raised a SystemError out of cv2 before), so the camchain reader answers
+    _same(rig, read_cameras(tmp_path / "camchain.yaml"))
 
 
 def test_kalibr_radtan_round_trip_and_refusals(tmp_path):

@@ -388,7 +388,7 @@ def _load_filestorage(path: str | Path) -> dict:
     _text(path)  # a clear error for binary junk before OpenCV parses it
     try:
         fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ | cv2.FILE_STORAGE_FORMAT_YAML)
-    except cv2.error as e:
+    except (cv2.error, SystemError) as e:  # some builds wrap cv2.error in a SystemError
         raise ValueError(f"{path}: not an OpenCV FileStorage file: {str(e).strip()[-200:]}") from None
     if not fs.isOpened():
         raise ValueError(f"{path}: cannot be opened as an OpenCV FileStorage file")
