@@ -15,7 +15,9 @@ Families: one camera per lens model (a fixed set of board views, noise
 re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
 gravity (scale, bias, misalignment and imu_from_cam), camera–IMU calibration in
-motion (imu_from_cam, time offset, biases), and generated pose graphs
+motion (imu_from_cam, time offset, biases) and with two cameras (a pinhole and a
+fisheye on their own clocks: both extrinsics, both offsets, the pair's relative
+pose) and with a rolling shutter (its line delay too), and generated pose graphs
 (2D Manhattan and 3D sphere, 60 poses, three poses scored, vertex 0 fixed), and
 the 3-camera rig of examples/calib_rig.py (partial overlap), and the joint rig
 of Le & Ng (an arm and a stereo pair, docs/tutorials/joint_rig.py: every DH entry,
@@ -189,6 +191,57 @@ def camera_imu_family() -> Trial:
     return trial
 
 
+def camera_imu_stereo_family() -> Trial:
+    """Two cameras and an IMU in motion on one trajectory: a pinhole and a Kannala–Brandt
+    fisheye 15 cm beside it, turned 20° away, each on its own clock (new swing, noise and
+    offsets per capture); both imu_from_cam, both offsets and the pair's relative pose
+    (σ from the joint covariance, CameraImuCalibration.cam_from_cam_std)."""
+    from boxplus.calib.camera_imu import calibrate_camera_imu
+    from boxplus.synthetic.camera_imu import SimulatedCamera, simulate_camera_imu
+
+    kb = np.array([230.0, 230.0, 320.0, 240.0, 0.01, -0.005, 0.001, 0.0])
+    ic0 = bp.SE3(bp.SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+    ic1 = ic0 * bp.SE3(bp.SO3.exp(np.array([0.0, 0.35, 0.0])), np.array([0.15, 0.01, 0.0]))
+    labels = codec_of(bp.SE3()).labels()
+
+    def trial(rng):
+        d0, d1 = rng.uniform(-0.03, 0.03, 2)
+        data, truth, K = simulate_camera_imu(rng, duration=6.0, time_offset=float(d0), imu_from_cam=ic0,
+                                             other_cameras=[SimulatedCamera(ic1, float(d1), "kannala_brandt",
+                                                                            kb, phase=0.021)])
+        cal = calibrate_camera_imu(data, [K, kb], ["pinhole", "kannala_brandt"], pixel_sigma=0.3)
+        o, ids = cal.problem, cal.ids
+        parts = [_error(o, ids["imu_from_cam[0]"], ic0), _error(o, ids["imu_from_cam[1]"], ic1),
+                 _error(o, ids["time_offset[0]"], bp.Rn([d0])),
+                 _error(o, ids["time_offset[1]"], bp.Rn([d1])),
+                 (cal.cam_from_cam(1) - ic1.inverse() * ic0, cal.cam_from_cam_std(1))]
+        names = ([f"imu_from_cam0.{n}" for n in labels] + [f"imu_from_cam1.{n}" for n in labels]
+                 + ["time_offset0", "time_offset1"] + [f"cam1_from_cam0.{n}" for n in labels])
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
+def camera_imu_rolling_family() -> Trial:
+    """Camera–IMU in motion with a rolling shutter (a new swing, noise, offset and line
+    delay of 10–40 µs per row per capture): imu_from_cam, the time offset and the line
+    delay."""
+    from boxplus.calib.camera_imu import calibrate_camera_imu
+    from boxplus.synthetic.camera_imu import simulate_camera_imu
+
+    def trial(rng):
+        d, ell = float(rng.uniform(-0.03, 0.03)), float(rng.uniform(10e-6, 40e-6))
+        data, truth, K = simulate_camera_imu(rng, duration=6.0, time_offset=d, line_delay=ell)
+        cal = calibrate_camera_imu(data, K, pixel_sigma=0.3, rolling_shutter=True)
+        o, ids = cal.problem, cal.ids
+        parts = [_error(o, ids["imu_from_cam"], truth["imu_from_cam"]),
+                 _error(o, ids["time_offset"], bp.Rn([d])), _error(o, ids["line_delay"], bp.Rn([ell]))]
+        names = [f"imu_from_cam.{n}" for n in codec_of(bp.SE3()).labels()] + ["time_offset", "line_delay"]
+        return names, np.concatenate([e for e, _ in parts]), np.concatenate([s for _, s in parts])
+
+    return trial
+
+
 def joint_rig_family() -> Trial:
     """Le & Ng's arm and stereo pair (boxplus.synthetic.joint_rigs.make_rig: a new table,
     views and noise per capture), fitted by full maximum likelihood (the arm's corners
@@ -273,6 +326,8 @@ FAMILIES: dict[str, Callable[[], Trial]] = {
     "hand-eye": hand_eye_family,
     "accelerometer+gravity": gravity_family,
     "camera-IMU in motion": camera_imu_family,
+    "camera-IMU stereo": camera_imu_stereo_family,
+    "camera-IMU rolling": camera_imu_rolling_family,
     "pose graph 2D manhattan": lambda: pose_graph_family("manhattan", 2),
     "pose graph 3D sphere": lambda: pose_graph_family("sphere", 3),
 }

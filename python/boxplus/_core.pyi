@@ -1763,9 +1763,9 @@ def spline_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typi
     """
     r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.
     """
-def spline_reprojection_factor(model: str, knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], imu_from_cam: typing.SupportsInt | typing.SupportsIndex, offset: typing.SupportsInt | typing.SupportsIndex, intrinsics: typing.SupportsInt | typing.SupportsIndex, t_rel: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"]) -> Factor:
+def spline_reprojection_factor(model: str, knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], imu_from_cam: typing.SupportsInt | typing.SupportsIndex, offset: typing.SupportsInt | typing.SupportsIndex, intrinsics: typing.SupportsInt | typing.SupportsIndex, t_rel: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], line_delay: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """
-    A target corner seen at camera time t_c = t_i + t_rel: r = W (π(k, cam_from_world(t_c + d) p) − z); see factors/imu/spline_terms.h.
+    A target corner seen at camera time t_c = t_i + t_rel: r = W (π(k, cam_from_world(t_c + d) p) − z); with line_delay (an R¹ variable ℓ, s per row) a rolling shutter: the pose at t_c + d + ℓ z_v. See factors/imu/spline_terms.h.
     """
 __version__: str = '0.1.0'
 pose_graph_implausible_chi2_per_dof: float = 10.0

@@ -136,6 +136,38 @@ TEST(Se3Spline, TermsVanishAtTheTruth) {
   Eigen::Vector2d r2;
   ASSERT_TRUE(proj->Evaluate(pb.data(), r2.data(), nullptr));
   EXPECT_LT(r2.norm(), 1e-7);
+
+  // A rolling shutter with a line delay of 30 µs per row: the corner at row v was read
+  // out at camera time t_c + ℓ v, so its pixel is the projection at t_c + d + ℓ v
+  // (found by fixed-point iteration on the row, as a camera reading rows would).
+  const double ell = 30e-6;
+  Eigen::Vector2d uv_rs = uv;
+  for (int it = 0; it < 60; ++it) {
+    const Sample s_rs = Eval(k, u + (d + ell * uv_rs.y()) / dt, dt);
+    const Eigen::Vector3d q = (SE3(s_rs.R, s_rs.p) * imu_from_cam).inverse() * p_world;
+    uv_rs = Eigen::Vector2d(500 * q.x() / q.z() + 320, 500 * q.y() / q.z() + 240);
+  }
+  EXPECT_GT((uv_rs - uv).norm(), 0.05);  // the motion during the readout shows
+  auto rs = MakeSplineReprojectionFactor("pinhole", u * dt, dt, uv_rs,
+                                         NoiseModel::Isotropic(2, 0.5), p_world, true);
+  std::vector<const double*> rb = pb;
+  rb.push_back(&ell);
+  ASSERT_TRUE(rs->Evaluate(rb.data(), r2.data(), nullptr));
+  EXPECT_LT(r2.norm(), 1e-7);
+  // its Jacobian in the line delay against a central difference
+  Eigen::Matrix<double, 2, 1> J_ell;
+  std::vector<double*> jacobians(rb.size(), nullptr);
+  jacobians.back() = J_ell.data();
+  ASSERT_TRUE(rs->Evaluate(rb.data(), r2.data(), jacobians.data()));
+  const double h = 1e-8;
+  Eigen::Vector2d r_plus, r_minus;
+  const double ell_plus = ell + h, ell_minus = ell - h;
+  rb.back() = &ell_plus;
+  ASSERT_TRUE(rs->Evaluate(rb.data(), r_plus.data(), nullptr));
+  rb.back() = &ell_minus;
+  ASSERT_TRUE(rs->Evaluate(rb.data(), r_minus.data(), nullptr));
+  EXPECT_LT((J_ell - (r_plus - r_minus) / (2 * h)).norm(), 1e-4 * J_ell.norm() + 1e-6);
+  EXPECT_GT(J_ell.norm(), 1.0);
 }
 
 }  // namespace

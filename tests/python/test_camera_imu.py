@@ -5,8 +5,8 @@ recordings with known truth (the true trajectory a spline on the same knot grid)
 import numpy as np
 import pytest
 from boxplus import SE3, SO3
-from boxplus.calib.camera_imu import CameraImuData, calibrate_camera_imu
-from boxplus.synthetic.camera_imu import simulate_camera_imu
+from boxplus.calib.camera_imu import CameraFrames, CameraImuData, calibrate_camera_imu
+from boxplus.synthetic.camera_imu import SimulatedCamera, simulate_camera_imu
 
 
 @pytest.mark.parametrize("seed, offset", [(0, 0.007), (1, -0.031)])
@@ -98,3 +98,74 @@ def test_drifting_biases_are_followed_when_the_random_walks_are_given():
     assert np.any(np.abs(cal.accel_biases[-1] - cal.accel_biases[0]) > 4 * cal.std("accel_bias[0]"))
     with pytest.raises(ValueError, match="give both random walks"):
         calibrate_camera_imu(data, K, gyro_random_walk=grw)
+
+
+def test_a_rig_of_two_cameras_and_an_imu_on_one_trajectory():
+    # A pinhole camera and a Kannala–Brandt fisheye 15 cm beside it, turned 20° away,
+    # each with its own clock (offsets +7 and −15 ms, frames 21 ms apart): one spline,
+    # one set of biases and gravity, and per camera imu_from_cam and its time offset.
+    rng = np.random.default_rng(0)
+    ic0 = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+    ic1 = ic0 * SE3(SO3.exp(np.array([0.0, 0.35, 0.0])), np.array([0.15, 0.01, 0.0]))
+    kb = np.array([230.0, 230.0, 320.0, 240.0, 0.01, -0.005, 0.001, 0.0])
+    data, truth, K = simulate_camera_imu(rng, time_offset=0.007, imu_from_cam=ic0, other_cameras=[
+        SimulatedCamera(ic1, -0.015, "kannala_brandt", kb, phase=0.021, name="fisheye")])
+    cal = calibrate_camera_imu(data, [K, kb], ["pinhole", "kannala_brandt"], pixel_sigma=0.3)
+    assert cal.summary.termination == "convergence"
+    assert cal.camera_names == ["cam0", "fisheye"]
+    for c in range(2):
+        true_ic, est = truth["imu_from_cams"][c], cal.imu_from_cams[c]
+        err = np.r_[est.pos - true_ic.pos, (true_ic.rot.inverse() * est.rot).log()]
+        assert np.all(np.abs(err) < 4 * cal.std(f"imu_from_cam[{c}]")), c
+        assert np.linalg.norm(err[:3]) < 2e-3 and np.degrees(np.linalg.norm(err[3:])) < 0.1
+        d = cal.time_offsets[c] - truth["time_offsets"][c]
+        assert abs(d) < 4 * cal.std(f"time_offset[{c}]")[0] and abs(d) < 2e-4
+    assert cal.imu_from_cam is cal.imu_from_cams[0] and cal.time_offset == cal.time_offsets[0]
+    # the rig's own extrinsics (Kalibr's T_cn_cnm1) and their σ from the joint covariance
+    true_rel = truth["imu_from_cams"][1].inverse() * truth["imu_from_cams"][0]
+    sigma = cal.cam_from_cam_std(1)
+    assert np.all(np.abs(cal.cam_from_cam(1) - true_rel) < 4 * sigma)
+    assert np.all(sigma[:3] < 2e-4) and np.all(sigma[:3] > 1e-6)
+    rms = cal.problem.rms()
+    assert rms["reprojection fisheye"] == pytest.approx(0.3 * np.sqrt(2), rel=0.1)
+    # cameras triggered together share one offset: one variable, one σ
+    same, truth2, _ = simulate_camera_imu(np.random.default_rng(1), duration=5.0, imu_from_cam=ic0,
+                                          other_cameras=[SimulatedCamera(ic1, 0.007)])
+    one = calibrate_camera_imu(same, [K, K], pixel_sigma=0.3, common_clock=True)
+    assert one.ids["time_offset[1]"] == one.ids["time_offset"]
+    assert one.time_offsets[0] == one.time_offsets[1]
+    assert abs(one.time_offset - 0.007) < 4 * one.std("time_offset")[0]
+    assert "imu_from_cam[1]" in one.todict()["std"]
+    # each camera's failures name it
+    few = CameraImuData(data.frame_times, data.corners, data.imu_times, data.gyro, data.accel,
+                        [CameraFrames(data.other_cameras[0].frame_times[:5],
+                                      data.other_cameras[0].corners[:5], "fisheye")])
+    with pytest.raises(ValueError, match="5 frames with the target in camera fisheye"):
+        calibrate_camera_imu(few, [K, kb], ["pinhole", "kannala_brandt"])
+    with pytest.raises(ValueError, match="camera fisheye: pinhole has 4 intrinsics, got 8"):
+        calibrate_camera_imu(data, [K, kb])
+    with pytest.raises(ValueError, match="2 cameras .*one intrinsics vector per camera"):
+        calibrate_camera_imu(data, K)
+
+
+def test_a_rolling_shutter_is_modelled_and_named_when_it_is_not():
+    # Rows read 30 µs apart (14 ms for 480 rows) while the rig swings: fitted as a global
+    # shutter the answer is plausible but wrong (the offset moves by about half the
+    # readout, imu_from_cam by millimetres) and the warning says what may be missing;
+    # with rolling_shutter=True the line delay is estimated and everything is within σ.
+    rng = np.random.default_rng(0)
+    ic = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+    data, truth, K = simulate_camera_imu(rng, time_offset=0.007, imu_from_cam=ic, line_delay=30e-6)
+    assert truth["line_delays"] == [30e-6]
+    with pytest.warns(UserWarning, match=r"reprojection RMS .* px is .*× what pixel_sigma = 0.3 px "
+                                         r"predicts.*rolling_shutter=True"):
+        wrong = calibrate_camera_imu(data, K, pixel_sigma=0.3)
+    assert abs(wrong.time_offset - 0.007) > 3e-3 and wrong.line_delays == [None]
+    cal = calibrate_camera_imu(data, K, pixel_sigma=0.3, rolling_shutter=True)
+    err = np.r_[cal.imu_from_cam.pos - ic.pos, (ic.rot.inverse() * cal.imu_from_cam.rot).log()]
+    assert np.all(np.abs(err) < 4 * cal.std("imu_from_cam"))
+    assert abs(cal.time_offset - 0.007) < 4 * cal.std("time_offset")[0]
+    ell, sigma = cal.line_delays[0], cal.std("line_delay")[0]
+    assert abs(ell - 30e-6) < 4 * sigma and abs(ell - 30e-6) < 1e-6
+    assert cal.problem.rms()["reprojection"] == pytest.approx(0.3 * np.sqrt(2), rel=0.1)
+    assert "line_delay[0]" in cal.todict()["std"]

@@ -4,6 +4,7 @@ boxplus-camera-imu writing Kalibr's camchain-imucam.yaml; bad files named."""
 
 import csv
 import math
+import re
 
 import numpy as np
 import pytest
@@ -19,33 +20,39 @@ from boxplus.calib.recordings import (  # noqa: E402
     read_kalibr_target,
 )
 from boxplus.calib.targets import parse_target  # noqa: E402
-from boxplus.synthetic.camera_imu import simulate_camera_imu  # noqa: E402
+from boxplus.synthetic.camera_imu import SimulatedCamera, simulate_camera_imu  # noqa: E402
 from boxplus.synthetic.images import render_view  # noqa: E402
 
 ORIGIN_NS = 1_403_636_579_758_555_392  # an EuRoC-sized timestamp: seconds would lose µs
 IMU_FROM_CAM = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+# a second camera 11 cm beside the first, triggered with it (cam1: the stereo tests)
+IMU_FROM_CAM1 = IMU_FROM_CAM * SE3(SO3.exp(np.array([0.01, 0.03, -0.02])), np.array([0.11, 0.0, 0.0]))
 
 
 @pytest.fixture(scope="module")
 def recording(tmp_path_factory):
-    """3 s at 12 Hz of a 7x6 chessboard (6 cm), rendered, and 200 Hz IMU samples."""
+    """3 s at 12 Hz of a 7x6 chessboard (6 cm), rendered by two cameras (cam0, cam1),
+    and 200 Hz IMU samples."""
     root = tmp_path_factory.mktemp("rec") / "mav0"
     data, truth, K = simulate_camera_imu(np.random.default_rng(5), duration=3.0, camera_rate=12.0,
-                                         time_offset=0.012, imu_from_cam=IMU_FROM_CAM)
+                                         time_offset=0.012, imu_from_cam=IMU_FROM_CAM,
+                                         other_cameras=[SimulatedCamera(IMU_FROM_CAM1, 0.012)])
     target = parse_target("chessboard:7x6:0.06")
     world_from_board = SE3(SO3(), np.array([-0.18, -0.15, 0.0]))
-    (root / "cam0" / "data").mkdir(parents=True)
-    (root / "imu0").mkdir()
+    (root / "imu0").mkdir(parents=True)
     ns = lambda t: ORIGIN_NS + int(round(t * 1e9))  # noqa: E731
-    with open(root / "cam0" / "data.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["#timestamp [ns]", "filename"])
-        for t, pose in zip(data.frame_times, truth["world_from_cam"]):
-            name = f"{ns(t)}.png"
-            image = render_view(target, "pinhole", K, (640, 480), pose.inverse() * world_from_board,
-                                supersample=1, noise_sigma=2.0, rng=np.random.default_rng(int(t * 1e3)))
-            cv2.imwrite(str(root / "cam0" / "data" / name), image)
-            w.writerow([ns(t), name])
+    for c, cam in enumerate(data.cameras):
+        (root / cam.name / "data").mkdir(parents=True)
+        with open(root / cam.name / "data.csv", "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["#timestamp [ns]", "filename"])
+            for t, pose in zip(cam.frame_times, truth["world_from_cams"][c]):
+                name = f"{ns(t)}.png"
+                image = render_view(target, "pinhole", K, (640, 480), pose.inverse() * world_from_board,
+                                    supersample=1, noise_sigma=2.0,
+                                    rng=np.random.default_rng(int(t * 1e3) + 7919 * c))
+                cv2.imwrite(str(root / cam.name / "data" / name), image)
+                w.writerow([ns(t), name])
     with open(root / "imu0" / "data.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["#timestamp [ns]", "w_RS_S_x [rad s^-1]", "w_RS_S_y [rad s^-1]",
@@ -64,6 +71,11 @@ def recording(tmp_path_factory):
         "colSpacingMeters: 0.06\n")
     io.write_opencv_yaml(folder / "calibration.yml",
                          [io.CalibratedCamera("cam0", "pinhole", K, (640, 480))])
+    # the stereo pair as boxplus-calib would have written it for Kalibr (names from topics)
+    rel = IMU_FROM_CAM1.inverse() * IMU_FROM_CAM
+    io.write_camchain(folder / "stereo-camchain.yaml",
+                      [io.CalibratedCamera("left", "pinhole", K, (640, 480)),
+                       io.CalibratedCamera("right", "pinhole", K, (640, 480), rel)])
     return folder, data, truth
 
 
@@ -140,6 +152,57 @@ def test_the_command_line_calibrates_the_rendered_recording(recording, tmp_path)
     assert len(own["gyro_biases"]) >= 25
     assert "time offset: t_imu = t_cam +" in (out / "report.txt").read_text()
     assert (out / "camera_imu.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_the_command_line_calibrates_a_stereo_pair_and_an_imu(recording, tmp_path):
+    # EuRoC's layout with cam0 and cam1, the intrinsics from a Kalibr camchain of the pair;
+    # the result is read as Kalibr reads camchain-imucam.yaml: T_cam_imu per camera and
+    # T_cn_cnm1 the same rig (boxplus' own camchain reader takes it as the stereo pair)
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    out = tmp_path / "out"
+    assert main([str(folder), "--cam", "cam0", "cam1", "--intrinsics",
+                 str(folder / "stereo-camchain.yaml"), "--target", str(folder / "target.yaml"),
+                 "--imu", str(folder / "imu.yaml"), "--pixel-sigma", "0.3", "--common-clock",
+                 "--out", str(out), "--quiet"]) == 0
+    doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())
+    own = yaml.safe_load((out / "camera_imu.yaml").read_text())
+    assert [c["camera"] for c in own["cameras"]] == ["left", "right"]
+    for c, (key, truth) in enumerate((("cam0", IMU_FROM_CAM), ("cam1", IMU_FROM_CAM1))):
+        T = np.array(doc[key]["T_cam_imu"])
+        ic = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
+        err = np.r_[ic.pos - truth.pos, (truth.rot.inverse() * ic.rot).log()]
+        sigma = np.array(own["std"]["imu_from_cam" + (f"[{c}]" if c else "")])
+        assert np.all(np.abs(err) < 4 * sigma) and np.linalg.norm(err[:3]) < 6e-3, key
+        assert abs(doc[key]["timeshift_cam_imu"] - 0.012) < 4 * own["std"]["time_offset"][0]
+    assert doc["cam0"]["timeshift_cam_imu"] == doc["cam1"]["timeshift_cam_imu"]  # one clock
+    T_rel = np.array(doc["cam1"]["T_cn_cnm1"])
+    np.testing.assert_allclose(T_rel, np.array(doc["cam1"]["T_cam_imu"])
+                               @ np.linalg.inv(np.array(doc["cam0"]["T_cam_imu"])), atol=1e-12)
+    rig = io.read_cameras(out / "camchain-imucam.yaml")
+    true_rel = IMU_FROM_CAM1.inverse() * IMU_FROM_CAM
+    assert np.linalg.norm(rig[1].cam_from_ref.pos - true_rel.pos) < 3e-3
+    assert [c.name for c in rig] == ["left", "right"]
+    report = (out / "report.txt").read_text()
+    assert "right_from_left (T_cn_cnm1; value ± σ)" in report and "of 'right'" in report
+
+
+def test_a_global_shutter_fitted_as_rolling_has_no_line_delay(recording, tmp_path):
+    # --rolling-shutter on the rendered (global-shutter) recording: the line delay is
+    # estimated at 0 within its σ, reported in µs per row and kept in boxplus' file
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    out = tmp_path / "out"
+    assert main([str(folder), "--intrinsics", str(folder / "calibration.yml"), "--target",
+                 str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--pixel-sigma",
+                 "0.3", "--rolling-shutter", "--out", str(out), "--quiet", "--no-plots"]) == 0
+    own = yaml.safe_load((out / "camera_imu.yaml").read_text())
+    ell, sigma = own["line_delays"][0], own["std"]["line_delay[0]"][0]
+    assert abs(ell) < 4 * sigma and sigma < 2e-6
+    assert "line delay: " in (out / "report.txt").read_text()
+    assert "line_delay" not in (out / "camchain-imucam.yaml").read_text()  # Kalibr has no field
 
 
 def test_the_command_line_refuses_bad_input_by_name(recording, tmp_path, capsys):
@@ -306,7 +369,7 @@ def test_bag_topics_and_stamps_are_checked(recording, tmp_path):
         read_bag(tmp_path / "nothing.bag")
 
 
-def test_the_command_line_calibrates_from_a_bag(recording, tmp_path):
+def test_the_command_line_calibrates_from_a_bag(recording, tmp_path, capsys):
     pytest.importorskip("rosbags")
     from boxplus.calib.camera_imu_cli import main
 
@@ -319,6 +382,18 @@ def test_the_command_line_calibrates_from_a_bag(recording, tmp_path):
     with pytest.raises(SystemExit) as stop:  # two camera topics: the user must choose
         main([str(bag), *args, "--out", str(tmp_path / "x")])
     assert stop.value.code == 2
+    # both topics as a rig: the bag's second camera has 3 frames, and the message names it
+    two = [str(bag), *args, "--image-topic", "/cam0/image_raw", "/cam1/image_raw", "--out",
+           str(tmp_path / "y")]
+    with pytest.raises(SystemExit) as stop:  # one camera in the intrinsics for two topics
+        main(two)
+    assert stop.value.code == 2
+    two[two.index(str(folder / "calibration.yml"))] = str(folder / "stereo-camchain.yaml")
+    with pytest.raises(SystemExit) as stop:
+        main(two)
+    assert stop.value.code == 1
+    assert re.search(r"[0-3] frames with the target in camera right; need at least 10",
+                     capsys.readouterr().err)
     out = tmp_path / "out"
     assert main([str(bag), *args, "--image-topic", "/cam0/image_raw", "--out", str(out)]) == 0
     doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())["cam0"]

@@ -4,6 +4,9 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <optional>
+#include <vector>
+
 #include "../bindings.h"
 #include "../factor.h"
 #include "boxplus/factors/imu/gravity.h"
@@ -76,21 +79,24 @@ void RegisterImuFactors(py::module_& m) {
       "spline_reprojection_factor",
       [](const std::string& model, const std::vector<int>& knots, int imu_from_cam, int offset,
          int intrinsics, double t_rel, double dt, const Eigen::Vector2d& z, const NoiseModel& noise,
-         const Eigen::Vector3d& p_in_world) {
+         const Eigen::Vector3d& p_in_world, std::optional<int> line_delay) {
         if (knots.size() != 4)
           throw py::value_error("spline_reprojection_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(imu_from_cam);
         ids.push_back(offset);
         ids.push_back(intrinsics);
-        return Factor{MakeSplineReprojectionFactor(model, t_rel, dt, z, noise, p_in_world), ids,
-                      noise};
+        if (line_delay) ids.push_back(*line_delay);
+        return Factor{MakeSplineReprojectionFactor(model, t_rel, dt, z, noise, p_in_world,
+                                                   line_delay.has_value()),
+                      ids, noise};
       },
       py::arg("model"), py::arg("knots"), py::arg("imu_from_cam"), py::arg("offset"),
       py::arg("intrinsics"), py::arg("t_rel"), py::arg("dt"), py::arg("z"), py::arg("noise"),
-      py::arg("p_in_world"),
+      py::arg("p_in_world"), py::arg("line_delay") = py::none(),
       "A target corner seen at camera time t_c = t_i + t_rel: r = W (π(k, cam_from_world(t_c + "
-      "d) p) − z); see factors/imu/spline_terms.h.");
+      "d) p) − z); with line_delay (an R¹ variable ℓ, s per row) a rolling shutter: the "
+      "pose at t_c + d + ℓ z_v. See factors/imu/spline_terms.h.");
 }
 
 }  // namespace boxplus::python

@@ -1,4 +1,4 @@
-"""``boxplus-camera-imu``: calibrate a camera and an IMU from a recording in motion.
+"""``boxplus-camera-imu``: calibrate cameras and an IMU from a recording in motion.
 
 The recording is a folder in the EuRoC/ASL layout (``cam0/data.csv`` + images,
 ``imu0/data.csv``; :mod:`boxplus.calib.recordings`) or a bag — ROS 1 ``*.bag``, a
@@ -13,7 +13,15 @@ ROS camera_info), the target and the IMU's noise from Kalibr's ``target.yaml`` a
         --target target.yaml --imu imu.yaml --out result/
     boxplus-camera-imu recording.bag --image-topic /cam0/image_raw --imu-topic /imu0 ...
 
-writes ``camchain-imucam.yaml`` (Kalibr's file: ``T_cam_imu``, ``timeshift_cam_imu``),
+A rig of several cameras and one IMU (a stereo pair, N cameras) is calibrated together
+on one trajectory: ``--cam cam0 cam1`` (EuRoC) or ``--image-topic /cam0/image_raw
+/cam1/image_raw`` (bags), the i-th camera with the i-th camera of ``--intrinsics`` (or
+of ``--camera-name``); ``--common-clock`` when they are triggered together (one time
+offset). ``--rolling-shutter`` estimates each camera's line delay (Kalibr's camchain has
+no field for it: it is in ``camera_imu.yaml`` and the report). It
+
+writes ``camchain-imucam.yaml`` (Kalibr's file: ``T_cam_imu``, ``timeshift_cam_imu``
+per camera, ``T_cn_cnm1`` between consecutive ones),
 ``report.txt`` (every estimate with σ) and ``camera_imu.png`` (the gyroscope against
 the fitted trajectory, the reprojection errors). Exit codes: 0 success, 1 the data
 did not give a plausible answer (the message says what to check), 2 bad input, 130
@@ -24,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -35,8 +44,8 @@ __all__ = ["main"]
 def _parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog="boxplus-camera-imu",
-        description="Calibrate a camera and an IMU (imu_from_cam, the clocks' time offset, "
-                    "the biases) from a recording in motion: an EuRoC/ASL folder, a ROS 1/2 "
+        description="Calibrate a camera (or several) and an IMU (imu_from_cam, the clocks' time "
+                    "offset, the biases) from a recording in motion: an EuRoC/ASL folder, a ROS 1/2 "
                     "bag or an MCAP file.",
         epilog="Example: boxplus-camera-imu recording/ --intrinsics calibration.yml "
                "--target target.yaml --imu imu.yaml --out result/")
@@ -46,8 +55,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--intrinsics", required=True, metavar="FILE",
                     help="the camera's calibration: OpenCV YAML (boxplus-calib), Kalibr "
                          "camchain or ROS camera_info")
-    ap.add_argument("--camera-name", default=None,
-                    help="the camera in --intrinsics (default: its only or first camera)")
+    ap.add_argument("--camera-name", nargs="+", default=None, metavar="NAME",
+                    help="the cameras in --intrinsics, one per recorded camera (default: its "
+                         "first cameras, in order)")
     ap.add_argument("--target", required=True,
                     help="Kalibr's target.yaml, or chessboard:COLSxROWS:SQUARE / "
                          "aprilgrid:COLSxROWS:TAG:SPACING (metres)")
@@ -71,10 +81,20 @@ def _parser() -> argparse.ArgumentParser:
                     help="the trajectory spline's knot spacing in s (default 0.05)")
     ap.add_argument("--max-offset", type=float, default=0.1,
                     help="the largest time offset searched, in s (default 0.1)")
-    ap.add_argument("--cam", default="cam0", help="EuRoC: the camera's subfolder (default cam0)")
+    ap.add_argument("--cam", nargs="+", default=["cam0"], metavar="FOLDER",
+                    help="EuRoC: the cameras' subfolders (default cam0; e.g. cam0 cam1 for a "
+                         "stereo pair)")
+    ap.add_argument("--common-clock", action="store_true",
+                    help="the cameras are triggered together: one time offset for all")
+    ap.add_argument("--rolling-shutter", action="store_true",
+                    help="the cameras read their rows one after the other: estimate each one's "
+                         "line delay (row v seen at the frame's timestamp + delay·v)")
+    ap.add_argument("--line-delay", type=float, default=0.0, metavar="SECONDS",
+                    help="with --rolling-shutter: the line delay to start from, s per row "
+                         "(default 0)")
     ap.add_argument("--imu-folder", default="imu0", help="EuRoC: the IMU's subfolder (default imu0)")
-    ap.add_argument("--image-topic", default=None,
-                    help="bag: the camera's topic (sensor_msgs/Image or CompressedImage; "
+    ap.add_argument("--image-topic", nargs="+", default=None, metavar="TOPIC",
+                    help="bag: the cameras' topics (sensor_msgs/Image or CompressedImage; "
                          "default: the bag's only one)")
     ap.add_argument("--imu-topic", default=None,
                     help="bag: the IMU's topic (sensor_msgs/Imu; default: the bag's only one)")
@@ -90,7 +110,9 @@ def _fail(message: str, code: int = 2) -> SystemExit:
     return SystemExit(code)
 
 
-def _camera(args: Any) -> Any:
+def _cameras(args: Any, n: int) -> list[Any]:
+    """The n recorded cameras' calibrations from --intrinsics: by --camera-name, else
+    the file's first n."""
     from boxplus.calib import io
 
     try:
@@ -98,12 +120,20 @@ def _camera(args: Any) -> Any:
     except (OSError, ValueError) as e:
         raise _fail(f"--intrinsics: {e}") from None
     if args.camera_name is None:
-        return cams[0]
-    found = [c for c in cams if c.name == args.camera_name]
-    if not found:
-        raise _fail(f"--intrinsics '{args.intrinsics}': no camera '{args.camera_name}' "
-                    f"(it has {', '.join(c.name for c in cams)})")
-    return found[0]
+        if len(cams) < n:
+            raise _fail(f"--intrinsics '{args.intrinsics}' has {len(cams)} camera(s) for {n} "
+                        f"recorded cameras")
+        return cams[:n]
+    if len(args.camera_name) != n:
+        raise _fail(f"--camera-name: {len(args.camera_name)} names for {n} recorded cameras")
+    chosen = []
+    for name in args.camera_name:
+        found = [c for c in cams if c.name == name]
+        if not found:
+            raise _fail(f"--intrinsics '{args.intrinsics}': no camera '{name}' "
+                        f"(it has {', '.join(c.name for c in cams)})")
+        chosen.append(found[0])
+    return chosen
 
 
 def _target(spec: str) -> Any:
@@ -146,25 +176,41 @@ def _noise(args: Any) -> tuple[float, float, float | None, float | None]:
     return gs, acs, gw, aw
 
 
-def _report(cal: Any, camera: Any, data: Any, gyro_sigma: float, accel_sigma: float) -> str:
-    ic = cal.imu_from_cam
-    s = cal.std("imu_from_cam")
-    rot = np.degrees(ic.rot.log())
-    found = sum(c is not None for c in data.corners)
+def _pose_lines(pose: Any, sigma: np.ndarray) -> list[str]:
+    rot = np.degrees(pose.rot.log())
+    return ["  translation (m): " + ", ".join(f"{a} {v:+.5f} ± {e:.5f}"
+                                              for a, v, e in zip("xyz", pose.pos, sigma[:3])),
+            "  rotation vector (deg): " + ", ".join(f"{a} {v:+.4f} ± {np.degrees(e):.4f}"
+                                                    for a, v, e in zip("xyz", rot, sigma[3:]))]
+
+
+def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_sigma: float) -> str:
+    several = len(cameras) > 1
     lines = [
-        f"boxplus-camera-imu: camera '{camera.name}' ({camera.model}), {len(data.frame_times)} "
-        f"images ({found} with the target), {len(data.imu_times)} IMU samples",
+        f"boxplus-camera-imu: {len(data.imu_times)} IMU samples; "
+        + "; ".join(f"camera '{c.name}' ({c.model}): {len(f.frame_times)} images "
+                    f"({sum(x is not None for x in f.corners)} with the target)"
+                    for c, f in zip(cameras, data.cameras)),
         f"noise: gyroscope σ {gyro_sigma:.4g} rad/s, accelerometer σ {accel_sigma:.4g} m/s² per "
         f"sample",
         f"solve: {cal.summary.termination}; RMS per group "
-        + ", ".join(f"{g} {r:.4g}" for g, r in cal.problem.rms().items()),
-        "imu_from_cam (value ± σ):",
-        "  translation (m): " + ", ".join(f"{a} {v:+.5f} ± {e:.5f}"
-                                          for a, v, e in zip("xyz", ic.pos, s[:3])),
-        "  rotation vector (deg): " + ", ".join(f"{a} {v:+.4f} ± {np.degrees(e):.4f}"
-                                                for a, v, e in zip("xyz", rot, s[3:])),
-        f"time offset: t_imu = t_cam + {cal.time_offset * 1e3:+.4f} ms ± "
-        f"{cal.std('time_offset')[0] * 1e3:.4f} ms",
+        + ", ".join(f"{g} {r:.4g}" for g, r in cal.problem.rms().items())]
+    for c, cam in enumerate(cameras):
+        lines.append(f"imu_from_cam{' of ' + repr(cam.name) if several else ''} (value ± σ):")
+        lines += _pose_lines(cal.imu_from_cams[c], cal.std(f"imu_from_cam[{c}]"))
+        d = cal.time_offsets[c]
+        lines.append(f"time offset{' of ' + repr(cam.name) if several else ''}: t_imu = t_cam "
+                     f"{'+' if d >= 0 else '−'} {abs(d) * 1e3:.4f} ms ± "
+                     f"{cal.std(f'time_offset[{c}]')[0] * 1e3:.4f} ms")
+        ell = cal.line_delays[c]
+        if ell is not None:
+            lines.append(f"line delay{' of ' + repr(cam.name) if several else ''}: {ell * 1e6:.4f} µs "
+                         f"per row ± {cal.std(f'line_delay[{c}]')[0] * 1e6:.4f} (the "
+                         f"{cam.image_size[1]} rows read out in {ell * cam.image_size[1] * 1e3:.3f} ms)")
+    for c in range(1, len(cameras)):
+        lines.append(f"{cameras[c].name}_from_{cameras[c - 1].name} (T_cn_cnm1; value ± σ):")
+        lines += _pose_lines(cal.cam_from_cam(c, c - 1), cal.cam_from_cam_std(c, c - 1))
+    lines += [
         "gyroscope bias (rad/s): " + " ".join(f"{v:+.5f}" for v in cal.gyro_bias)
         + "  ± " + " ".join(f"{v:.5f}" for v in cal.std("gyro_bias")),
         "accelerometer bias (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.accel_bias)
@@ -186,15 +232,18 @@ def main(argv: list[str] | None = None) -> int:
     from boxplus.calib.camera_imu import calibrate_camera_imu
     from boxplus.calib.recordings import detect_recording, read_euroc
 
-    camera = _camera(args)
+    source = Path(args.recording)
+    bag = is_bag(source)
+    n_cam = len(args.image_topic or [None]) if bag else len(args.cam)
+    cameras = _cameras(args, n_cam)
     target = _target(args.target)
     gyro_sigma, accel_sigma, gyro_walk, accel_walk = _noise(args)
-    source = Path(args.recording)
     try:
-        if is_bag(source):
-            recording: Any = read_bag(source, args.image_topic, args.imu_topic)
+        if bag:
+            recordings: list[Any] = [read_bag(source, t, args.imu_topic)
+                                     for t in (args.image_topic or [None])]
         else:
-            recording = read_euroc(source, args.cam, args.imu_folder)
+            recordings = [read_euroc(source, c, args.imu_folder) for c in args.cam]
     except (OSError, ValueError, ImportError) as e:  # no rosbags: the message names the extra
         raise _fail(str(e)) from None
     out = args.out
@@ -208,33 +257,51 @@ def main(argv: list[str] | None = None) -> int:
     try:
         # Ctrl-C during a solve stops it at its best estimate (the summary says
         # 'interrupted' and so does the report); during detection nothing is estimated yet
-        data = detect_recording(recording, target, progress)
-        cal = calibrate_camera_imu(data, camera.intrinsics, camera.model, pixel_sigma=args.pixel_sigma,
-                                   gyro_sigma=gyro_sigma, accel_sigma=accel_sigma,
-                                   knot_spacing=args.knot_spacing, max_offset=args.max_offset,
-                                   gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
-                                   bias_spacing=args.bias_spacing)
+        data = detect_recording(recordings, target, progress, [c.name for c in cameras])
+        several = len(cameras) > 1
+        intrinsics = [c.intrinsics for c in cameras] if several else cameras[0].intrinsics
+        models = [c.model for c in cameras] if several else cameras[0].model
+        with warnings.catch_warnings(record=True) as caught:  # the report names them
+            warnings.simplefilter("always", UserWarning)
+            cal = calibrate_camera_imu(
+                data, intrinsics, models, pixel_sigma=args.pixel_sigma, gyro_sigma=gyro_sigma,
+                accel_sigma=accel_sigma, knot_spacing=args.knot_spacing, max_offset=args.max_offset,
+                gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
+                bias_spacing=args.bias_spacing, common_clock=args.common_clock,
+                rolling_shutter=args.rolling_shutter, line_delay=args.line_delay)
     except ValueError as e:
         raise _fail(str(e), code=1) from None
     except KeyboardInterrupt:
         raise _fail("interrupted before an estimate existed; nothing written", code=130) from None
-    report = _report(cal, camera, data, gyro_sigma, accel_sigma)
+    report = _report(cal, cameras, data, gyro_sigma, accel_sigma)
+    notes = [str(w.message) for w in caught]
+    for note in notes:
+        print(f"boxplus-camera-imu: warning: {note}", file=sys.stderr)
+    report += "".join(f"\nwarning: {note}" for note in notes)
     print(report)
     out.mkdir(parents=True, exist_ok=True)
     from boxplus.files import write_atomically
 
     written = []
     try:
-        io.write_camchain_imucam(out / "camchain-imucam.yaml", camera, cal.imu_from_cam.inverse(),
-                                 cal.time_offset)
+        topics = [r.image_topic for r in recordings] if bag else None
+        io.write_camchain_imucam(out / "camchain-imucam.yaml", cameras,
+                                 [p.inverse() for p in cal.imu_from_cams], cal.time_offsets, topics)
         written.append("camchain-imucam.yaml")
     except ValueError as e:  # a lens Kalibr cannot describe: its reader would misread it
         print(f"not written: camchain-imucam.yaml: {e}", file=sys.stderr)
     # boxplus' own file: every estimate and σ, whatever the lens
-    io.write_yaml(out / "camera_imu.yaml", {
-        "camera": camera.name, "model": camera.model,
+    own: dict[str, Any] = {
+        "camera": cameras[0].name, "model": cameras[0].model,
         "T_cam_imu": cal.imu_from_cam.inverse().matrix().tolist(),
-        "timeshift_cam_imu": cal.time_offset, **cal.todict()})
+        "timeshift_cam_imu": cal.time_offset}
+    if len(cameras) > 1:
+        own["cameras"] = [{"camera": c.name, "model": c.model,
+                           "T_cam_imu": p.inverse().matrix().tolist(), "timeshift_cam_imu": d,
+                           "line_delay": ell}
+                          for c, p, d, ell in zip(cameras, cal.imu_from_cams, cal.time_offsets,
+                                                  cal.line_delays)]
+    io.write_yaml(out / "camera_imu.yaml", {**own, **cal.todict()})
     write_atomically(out / "report.txt", report + "\n")
     written += ["camera_imu.yaml", "report.txt"]
     if not args.no_plots:

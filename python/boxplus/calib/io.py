@@ -308,20 +308,33 @@ def write_camchain(path: str | Path, cameras: Sequence[CalibratedCamera],
     write_yaml(path, doc)
 
 
-def write_camchain_imucam(path: str | Path, camera: CalibratedCamera, cam_from_imu: SE3,
-                          timeshift: float, topic: str | None = None) -> None:
-    """Writes a camera–IMU calibration as Kalibr's ``camchain-imucam.yaml``: the camera's
-    entry plus ``T_cam_imu`` (cam_from_imu: IMU coordinates into camera coordinates,
-    4 × 4) and ``timeshift_cam_imu`` (s; t_imu = t_cam + timeshift)."""
-    cm, intr, dm, dc = _kalibr_entry(camera)
-    T = cam_from_imu.matrix()
-    write_yaml(path, {"cam0": {
-        "T_cam_imu": [[float(v) for v in row] for row in T],
-        "camera_model": cm, "intrinsics": [float(v) for v in intr], "distortion_model": dm,
-        "distortion_coeffs": [float(v) for v in dc],
-        "resolution": [int(camera.image_size[0]), int(camera.image_size[1])],
-        "rostopic": topic or f"/{camera.name}/image_raw",
-        "timeshift_cam_imu": float(timeshift)}})
+def write_camchain_imucam(path: str | Path, camera: CalibratedCamera | Sequence[CalibratedCamera],
+                          cam_from_imu: SE3 | Sequence[SE3], timeshift: float | Sequence[float],
+                          topic: str | Sequence[str] | None = None) -> None:
+    """Writes a camera–IMU calibration as Kalibr's ``camchain-imucam.yaml``: each
+    camera's entry plus ``T_cam_imu`` (cam_from_imu: IMU coordinates into camera
+    coordinates, 4 × 4) and ``timeshift_cam_imu`` (s; t_imu = t_cam + timeshift). Several
+    cameras (lists, one entry each) also get ``T_cn_cnm1`` (camera n−1 into camera n,
+    from their T_cam_imu), so that the file is a camchain Kalibr's tools read as the rig."""
+    cams = [camera] if isinstance(camera, CalibratedCamera) else list(camera)
+    poses = [cam_from_imu] if isinstance(cam_from_imu, SE3) else list(cam_from_imu)
+    shifts = [float(t) for t in np.atleast_1d(np.asarray(timeshift, dtype=float))]
+    topics = [None] * len(cams) if topic is None else [topic] if isinstance(topic, str) else list(topic)
+    if not len(cams) == len(poses) == len(shifts) == len(topics):
+        raise ValueError(f"write_camchain_imucam: {len(cams)} cameras, {len(poses)} T_cam_imu, "
+                         f"{len(shifts)} time shifts and {len(topics)} topics: give one of each per camera")
+    doc: dict[str, Any] = {}
+    for i, (c, T, d, tp) in enumerate(zip(cams, poses, shifts, topics)):
+        cm, intr, dm, dc = _kalibr_entry(c)
+        entry: dict[str, Any] = {"T_cam_imu": [[float(v) for v in row] for row in T.matrix()]}
+        if i > 0:
+            entry["T_cn_cnm1"] = [[float(v) for v in row] for row in (T * poses[i - 1].inverse()).matrix()]
+        entry.update(camera_model=cm, intrinsics=[float(v) for v in intr], distortion_model=dm,
+                     distortion_coeffs=[float(v) for v in dc],
+                     resolution=[int(c.image_size[0]), int(c.image_size[1])],
+                     rostopic=tp or f"/{c.name}/image_raw", timeshift_cam_imu=d)
+        doc[f"cam{i}"] = entry
+    write_yaml(path, doc)
 
 
 # ---- reading ------------------------------------------------------------------------

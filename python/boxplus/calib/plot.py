@@ -323,9 +323,16 @@ def plot_camera_imu(cal: Any, data: Any, path: Any = None, seconds: float = 2.0)
     a.set(xlabel="IMU time (s)", ylabel="angular velocity (rad/s)",
           title="gyroscope samples (dots) and the fitted trajectory (lines)")
     a.legend(fontsize=8, ncol=3)
-    e = cal.problem.errors()["reprojection"]
-    b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5)
+    # one group per camera when the rig has several ("reprojection <name>")
+    groups = {g: e for g, e in cal.problem.errors().items() if g.startswith("reprojection")}
+    for j, (g, e) in enumerate(groups.items()):
+        name = g.removeprefix("reprojection").strip() or "camera"
+        b.plot(e[:, 0], e[:, 1], ".", ms=1.5, alpha=0.5, color=f"C{j}",
+               label=f"{name}: RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
+    e = np.concatenate(list(groups.values()))
     b.set(xlabel="error u (px)", ylabel="error v (px)", aspect="equal",
           title=f"reprojection errors of {len(e)} corners, RMS {np.sqrt(np.mean(e ** 2)):.3f} px")
+    if len(groups) > 1:
+        b.legend(fontsize=8, markerscale=4)
     return _finish(fig, path)
 

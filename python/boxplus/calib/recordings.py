@@ -27,14 +27,14 @@ from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Protocol
 
 import numpy as np
 
-from boxplus.calib.camera_imu import CameraImuData
+from boxplus.calib.camera_imu import CameraFrames, CameraImuData
 from boxplus.calib.targets import Target
 
 __all__ = ["EurocRecording", "ImuNoise", "Recording", "detect_recording", "read_euroc", "read_kalibr_imu",
@@ -214,20 +214,34 @@ def read_kalibr_target(path: str | Path) -> Target:
                      f"'aprilgrid')")
 
 
-def detect_recording(recording: Recording, target: Target,
-                     progress: Callable[[int, int], None] | None = None) -> CameraImuData:
+def detect_recording(recording: Recording | Sequence[Recording], target: Target,
+                     progress: Callable[[int, int], None] | None = None,
+                     names: Sequence[str] | None = None) -> CameraImuData:
     """The target's corners in every image of ``recording`` (an EuRoC folder's or a
     bag's; frames without the target are kept, as None); ``progress(done, total)`` is
-    called after each image."""
-    corners: list[Any] = []
-    total = len(recording.frame_times)
-    for i, (_, gray) in enumerate(recording.frames()):
-        found = target.detect(gray)
-        corners.append(None if found is None else (np.asarray(found[0], float),
-                                                   np.asarray(found[1], float)))
-        if progress is not None:
-            progress(i + 1, total)
-    if len(corners) != total:
-        raise ValueError(f"the recording gave {len(corners)} images for {total} frame times")
-    return CameraImuData(recording.frame_times, corners, recording.imu_times, recording.gyro,
-                         recording.accel)
+    called after each image. A list of recordings is a rig of several cameras with one
+    IMU (the IMU samples are the first recording's; each camera named by ``names``,
+    else cam0, cam1, …)."""
+    recs: list[Recording] = list(recording) if isinstance(recording, (list, tuple)) else [recording]  # type: ignore[list-item]
+    names = list(names) if names is not None else [f"cam{i}" for i in range(len(recs))]
+    if len(names) != len(recs):
+        raise ValueError(f"detect_recording: {len(names)} names for {len(recs)} cameras")
+    total = sum(len(r.frame_times) for r in recs)
+    done = 0
+    cameras = []
+    for rec, name in zip(recs, names):
+        corners: list[Any] = []
+        for _, gray in rec.frames():
+            found = target.detect(gray)
+            corners.append(None if found is None else (np.asarray(found[0], float),
+                                                       np.asarray(found[1], float)))
+            done += 1
+            if progress is not None:
+                progress(done, total)
+        if len(corners) != len(rec.frame_times):
+            raise ValueError(f"camera {name}: the recording gave {len(corners)} images for "
+                             f"{len(rec.frame_times)} frame times")
+        cameras.append(CameraFrames(rec.frame_times, corners, name))
+    first = recs[0]
+    return CameraImuData(first.frame_times, cameras[0].corners, first.imu_times, first.gyro,
+                         first.accel, cameras[1:], names[0])

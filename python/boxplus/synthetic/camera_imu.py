@@ -9,16 +9,35 @@ Images of these recordings are rendered by :mod:`boxplus.synthetic.images`.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from boxplus import _core
-from boxplus.calib.camera_imu import CameraImuData, spline_segment
+from boxplus.calib.camera_imu import CameraFrames, CameraImuData, spline_segment
 from boxplus.calib.models import project
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["simulate_camera_imu"]
+__all__ = ["SimulatedCamera", "simulate_camera_imu"]
+
+
+@dataclass
+class SimulatedCamera:
+    """One more camera on the simulated rig: its pose in the IMU frame, its clock
+    (IMU time = its time + ``time_offset``), its lens (``intrinsics`` in ``model``'s
+    order; None: the first camera's pinhole) and the phase of its frames after the
+    first camera's (s; 0 for cameras triggered together); ``line_delay`` > 0 makes it
+    a rolling shutter (s per row)."""
+
+    imu_from_cam: SE3
+    time_offset: float = 0.007
+    model: str = "pinhole"
+    intrinsics: Any = None
+    phase: float = 0.0
+    name: str = ""
+    line_delay: float = 0.0
 
 
 def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_rate: float = 20.0,
@@ -27,7 +46,9 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                         gyro_sigma: float = 0.005, accel_sigma: float = 0.05,
                         gyro_bias: Any = (0.01, -0.02, 0.015), accel_bias: Any = (0.1, -0.05, 0.08),
                         knot_spacing: float = 0.05, gyro_random_walk: float = 0.0,
-                        accel_random_walk: float = 0.0) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
+                        accel_random_walk: float = 0.0,
+                        other_cameras: Sequence[SimulatedCamera] = (), line_delay: float = 0.0
+                        ) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
     """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
     true trajectory is a spline of smooth random control points (a rig swinging
     ±0.3 m and ±25° about a pose 0.8 m in front of the target), sampled by the IMU
@@ -38,7 +59,16 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     Returns (data, truth, intrinsics); the
     truth holds the camera's pose at every frame (``world_from_cam``; the target's 42
     corners are those of ``chessboard:7x6:0.06`` shifted by (−0.18, −0.15, 0)), so
-    that images can be rendered (:mod:`boxplus.synthetic.images`)."""
+    that images can be rendered (:mod:`boxplus.synthetic.images`).
+
+    ``other_cameras`` (:class:`SimulatedCamera`) add cameras to the rig, each seeing
+    the target through its own lens at its own clock (``data.other_cameras``); the
+    truth then also holds ``imu_from_cams``, ``time_offsets``, ``world_from_cams``
+    (one per camera, the first camera's first) and ``intrinsics`` (per camera). They are
+    drawn after the first camera's, so a seed gives the same first camera with or
+    without them. ``line_delay`` > 0 (s per row) gives the first camera a rolling
+    shutter: row v is seen at its frame's time + ℓ·v (each corner's row found by
+    fixed-point iteration); truth ``line_delays`` per camera."""
     K = np.array([460.0, 460.0, 320.0, 240.0])
     imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
     target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
@@ -85,19 +115,53 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         R = SO3(q).R
         gyro.append(w + bg[k] + rng.normal(0, gyro_sigma, 3))
         accel.append(R.T @ (a - 9.81 * g_dir) + ba[k] + rng.normal(0, accel_sigma, 3))
-    frame_t = np.arange(0.2, duration - 0.2, 1.0 / camera_rate)
-    corners, cam_poses = [], []
-    for tc in frame_t:
-        p, q, *_ = state(tc + time_offset)
-        world_from_cam = SE3(SO3(q), p) * imu_from_cam
-        cam_poses.append(world_from_cam)
-        pc = (target - world_from_cam.pos) @ world_from_cam.rot.R
-        uv = project(K, pc, "pinhole")
-        ok = (pc[:, 2] > 0) & np.all((uv >= 0) & (uv < [640, 480]), axis=1)
-        corners.append((uv[ok] + rng.normal(0, pixel_sigma, (ok.sum(), 2)), target[ok])
-                       if ok.sum() >= 8 else None)
+    def observe(ic: SE3, offset: float, k: np.ndarray, model: str, phase: float,
+                ell: float = 0.0) -> tuple:
+        frame_t = np.arange(0.2 + phase, duration - 0.2, 1.0 / camera_rate)
+        corners, cam_poses = [], []
+
+        def seen(t: float, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            p, q, *_ = state(t)
+            world_from_cam = SE3(SO3(q), p) * ic
+            pc = (points - world_from_cam.pos) @ world_from_cam.rot.R
+            front = pc[:, 2] > 0
+            uv = np.full((len(pc), 2), -1.0)
+            uv[front] = project(k, pc[front], model)
+            return uv, front
+
+        for tc in frame_t:
+            p, q, *_ = state(tc + offset)
+            world_from_cam = SE3(SO3(q), p) * ic
+            cam_poses.append(world_from_cam)
+            uv, front = seen(tc + offset, target)
+            if ell > 0:  # a rolling shutter: each corner at the time its row was read
+                for j in np.flatnonzero(front):
+                    for _ in range(6):  # ℓ·(row speed) ≪ 1: converges to 1e-12 px
+                        uv_j, ok_j = seen(tc + offset + ell * uv[j, 1], target[j:j + 1])
+                        uv[j], front[j] = uv_j[0], ok_j[0]
+                        if not front[j]:
+                            break
+            ok = front & np.all((uv >= 0) & (uv < [640, 480]), axis=1)
+            corners.append((uv[ok] + rng.normal(0, pixel_sigma, (ok.sum(), 2)), target[ok])
+                           if ok.sum() >= 8 else None)
+        return frame_t, corners, cam_poses
+
+    frame_t, corners, cam_poses = observe(imu_from_cam, time_offset, K, "pinhole", 0.0, line_delay)
+    others, poses_all = [], [cam_poses]
+    for i, cam in enumerate(other_cameras):
+        lens = K if cam.intrinsics is None else np.asarray(cam.intrinsics, float)
+        ft, cs, ps = observe(cam.imu_from_cam, cam.time_offset, lens, cam.model, cam.phase,
+                             cam.line_delay)
+        others.append(CameraFrames(ft, cs, cam.name or f"cam{i + 1}"))
+        poses_all.append(ps)
     truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg.mean(axis=0),
              "accel_bias": ba.mean(axis=0), "gyro_bias_track": bg, "accel_bias_track": ba,
-             "gravity": 9.81 * g_dir, "world_from_cam": cam_poses}
-    data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel))
+             "gravity": 9.81 * g_dir, "world_from_cam": cam_poses,
+             "imu_from_cams": [imu_from_cam, *(c.imu_from_cam for c in other_cameras)],
+             "time_offsets": [time_offset, *(c.time_offset for c in other_cameras)],
+             "world_from_cams": poses_all,
+             "line_delays": [line_delay, *(c.line_delay for c in other_cameras)],
+             "intrinsics": [K, *(K if c.intrinsics is None else np.asarray(c.intrinsics, float)
+                                 for c in other_cameras)]}
+    data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel), others)
     return data, truth, K

@@ -75,7 +75,9 @@ class AccelFunctor {
   double g_;
 };
 
-template <class Model>
+// kRolling: one more block, the line delay ℓ (s per image row): the corner's row v
+// (its measured one) was read out ℓ·v after the frame's timestamp.
+template <class Model, bool kRolling>
 class ReprojectionFunctor {
  public:
   ReprojectionFunctor(double t_rel, double dt, const Eigen::Vector2d& z, const Eigen::Matrix2d& W,
@@ -85,8 +87,23 @@ class ReprojectionFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* imu_from_cam,
                   const T* offset, const T* intrinsics, T* r) const {
+    return Residual(k0, k1, k2, k3, imu_from_cam, T(t_rel_) + offset[0], intrinsics, r);
+  }
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* imu_from_cam,
+                  const T* offset, const T* intrinsics, const T* line_delay, T* r) const {
+    return Residual(k0, k1, k2, k3, imu_from_cam, T(t_rel_) + offset[0] + line_delay[0] * T(z_[1]),
+                    intrinsics, r);
+  }
+
+ private:
+  // t: the corner's IMU time after the segment's start
+  template <typename T>
+  bool Residual(const T* k0, const T* k1, const T* k2, const T* k3, const T* imu_from_cam,
+                const T& t, const T* intrinsics, T* r) const {
     const T* knots[4] = {k0, k1, k2, k3};
-    const T u = (T(t_rel_) + offset[0]) / T(dt_);
+    const T u = t / T(dt_);
     T p_wi[3], q_wi[4];
     spline::Evaluate(knots, u, dt_, p_wi, q_wi, static_cast<T*>(nullptr), static_cast<T*>(nullptr),
                      static_cast<T*>(nullptr));
@@ -106,7 +123,6 @@ class ReprojectionFunctor {
     return true;
   }
 
- private:
   double t_rel_, dt_;
   Eigen::Vector2d z_;
   Eigen::Matrix2d W_;
@@ -146,16 +162,23 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
     const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
-    const NoiseModel& noise, const Eigen::Vector3d& p_in_world) {
+    const NoiseModel& noise, const Eigen::Vector3d& p_in_world, bool rolling_shutter) {
   CheckTime(t_rel, dt, "spline reprojection factor");
   BOXPLUS_CHECK(z.allFinite() && p_in_world.allFinite(),
                 "spline reprojection factor: non-finite pixel or target point");
   const Eigen::Matrix2d W = noise.Fixed<2>("spline reprojection factor");
   return camera::WithCameraModel(model, [&](auto m) -> std::shared_ptr<ceres::CostFunction> {
     using Model = decltype(m);
-    return std::make_shared<ceres::AutoDiffCostFunction<ReprojectionFunctor<Model>, 2, kKnot, kKnot,
-                                                        kKnot, kKnot, kKnot, 1, Model::kSize>>(
-        new ReprojectionFunctor<Model>(t_rel, dt, z, W, p_in_world));
+    if (rolling_shutter) {
+      using F = ReprojectionFunctor<Model, true>;
+      return std::make_shared<
+          ceres::AutoDiffCostFunction<F, 2, kKnot, kKnot, kKnot, kKnot, kKnot, 1, Model::kSize, 1>>(
+          new F(t_rel, dt, z, W, p_in_world));
+    }
+    using F = ReprojectionFunctor<Model, false>;
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<F, 2, kKnot, kKnot, kKnot, kKnot, kKnot, 1, Model::kSize>>(
+        new F(t_rel, dt, z, W, p_in_world));
   });
 }
 

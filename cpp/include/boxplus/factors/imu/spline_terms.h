@@ -15,6 +15,11 @@
 //   world_from_imu(t_c + d) · imu_from_cam, π any camera model of
 //   camera/models.h with intrinsics block k.
 //   blocks: 4 control points, imu_from_cam (SE3 7), d (R¹), k (the model's size).
+// Rolling shutter (2): the same at IMU time t_c + d + ℓ v, v the corner's measured
+//   image row and ℓ the line delay (s per row; the frame's timestamp is the
+//   readout of row 0): a rolling-shutter camera reads its rows one after the other
+//   while the rig moves (Oth et al., CVPR 2013; Kalibr's rolling-shutter camera).
+//   blocks: as above, then ℓ (R¹).
 // Times enter as u = (t − t_i)/Δt of the segment t_i the caller chose: for the
 // gyroscope and accelerometer t is a sample's IMU time; for a reprojection,
 // `t_rel` = t_c − t_i and u = (t_rel + d)/Δt, so d moves u (extrapolating
@@ -45,6 +50,6 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
     const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
-    const NoiseModel& noise, const Eigen::Vector3d& p_in_world);
+    const NoiseModel& noise, const Eigen::Vector3d& p_in_world, bool rolling_shutter = false);
 
 }  // namespace boxplus
