@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'g2o_record_tags', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_reprojection_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'g2o_record_tags', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_offset_accel_factor', 'spline_offset_gyro_factor', 'spline_reprojection_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1755,13 +1755,21 @@ def spline_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typ
     """
     r = W (R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of gravity in the world frame); see factors/imu/spline_terms.h.
     """
-def spline_evaluate(knots: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 7]"], u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]]:
+def spline_evaluate(knots: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 7]"], u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]]:
     """
-    (p, q, v, a, ω_body) of the R³ × SO(3) cubic B-spline segment whose 4 control points are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).
+    (p, q, v, a, ω_body, α_body) of the R³ × SO(3) cubic B-spline segment whose 4 control points are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).
     """
 def spline_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel) -> Factor:
     """
     r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.
+    """
+def spline_offset_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81) -> Factor:
+    """
+    Another IMU's accelerometer, with its lever arm: r = W (R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + ω × (ω × r)) + b_a − z); see factors/imu/spline_terms.h.
+    """
+def spline_offset_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel) -> Factor:
+    """
+    Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z); see factors/imu/spline_terms.h.
     """
 def spline_reprojection_factor(model: str, knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], imu_from_cam: typing.SupportsInt | typing.SupportsIndex, offset: typing.SupportsInt | typing.SupportsIndex, intrinsics: typing.SupportsInt | typing.SupportsIndex, t_rel: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], line_delay: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """

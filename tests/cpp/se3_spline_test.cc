@@ -21,7 +21,7 @@ Knot MakeKnot(const Eigen::Vector3d& p, const SO3& R) {
 }
 
 struct Sample {
-  Eigen::Vector3d p, v, a, w;
+  Eigen::Vector3d p, v, a, w, alpha;
   SO3 R;
 };
 
@@ -29,7 +29,7 @@ Sample Eval(const std::vector<Knot>& k, double u, double dt) {
   const double* knots[4] = {k[0].data(), k[1].data(), k[2].data(), k[3].data()};
   Sample s;
   double q[4];
-  spline::Evaluate(knots, u, dt, s.p.data(), q, s.v.data(), s.a.data(), s.w.data());
+  spline::Evaluate(knots, u, dt, s.p.data(), q, s.v.data(), s.a.data(), s.w.data(), s.alpha.data());
   s.R = SO3::FromAmbient(q);
   return s;
 }
@@ -56,6 +56,8 @@ TEST(Se3Spline, DerivativesMatchCentralDifferences) {
       const Eigen::Vector3d a = (sp.v - sm.v) / (2 * h * dt);
       // body rate: Log(R(t)ᵀ R(t + τ)) / τ
       const Eigen::Vector3d w = (sm.R.inverse() * sp.R).Log() / (2 * h * dt);
+      const Eigen::Vector3d alpha = (sp.w - sm.w) / (2 * h * dt);
+      EXPECT_LT((alpha - s.alpha).norm(), 1e-5 * (1 + s.alpha.norm())) << trial << " u " << u;
       EXPECT_LT((v - s.v).norm(), 1e-6 * (1 + s.v.norm())) << trial << " u " << u;
       EXPECT_LT((a - s.a).norm(), 1e-5 * (1 + s.a.norm())) << trial << " u " << u;
       EXPECT_LT((w - s.w).norm(), 1e-6 * (1 + s.w.norm())) << trial << " u " << u;
@@ -86,6 +88,7 @@ TEST(Se3Spline, ReproducesConstantRatesAndParabolas) {
       EXPECT_LT((s.a - c * 2 / (dt * dt)).norm(), 1e-8);
       EXPECT_LT((s.R.inverse() * (R0 * SO3::Exp(n * d))).Log().norm(), 1e-12);
       EXPECT_LT((s.w - d / dt).norm(), 1e-12);
+      EXPECT_LT(s.alpha.norm(), 1e-9);  // a constant rate
     }
   }
 }
@@ -168,6 +171,49 @@ TEST(Se3Spline, TermsVanishAtTheTruth) {
   ASSERT_TRUE(rs->Evaluate(rb.data(), r_minus.data(), nullptr));
   EXPECT_LT((J_ell - (r_plus - r_minus) / (2 * h)).norm(), 1e-4 * J_ell.norm() + 1e-6);
   EXPECT_GT(J_ell.norm(), 1.0);
+}
+
+// Another IMU 8 cm off the body's origin, turned: its gyroscope reads the body
+// rate in its own axes, its accelerometer the second derivative of its own
+// position (a central difference here) minus gravity, in its own axes.
+TEST(Se3Spline, AnotherImuFeelsItsLeverArm) {
+  std::mt19937 rng(13);
+  const double dt = 0.1, u = 0.37, h = 1e-4;
+  const std::vector<Knot> k = RandomKnots(rng);
+  const SE3 body_from_imu(SO3::Exp(Eigen::Vector3d(0.3, -1.2, 0.5)),
+                          Eigen::Vector3d(0.08, -0.03, 0.05));
+  const Eigen::Vector3d g_dir = Eigen::Vector3d(0.1, 0.2, -1.0).normalized();
+  auto where = [&](double uu) {
+    const Sample s = Eval(k, uu, dt);
+    return Eigen::Vector3d(s.p + s.R * body_from_imu.pos());
+  };
+  const Sample s = Eval(k, u, dt);
+  const Eigen::Vector3d a_k = (where(u + h) - 2 * where(u) + where(u - h)) / (h * h * dt * dt);
+  const Eigen::Matrix3d R_k = body_from_imu.rotation().matrix();
+  const Eigen::Vector3d f_k =
+      R_k.transpose() * (s.R.inverse() * Eigen::Vector3d(a_k - 9.81 * g_dir));
+  const Eigen::Vector3d w_k = R_k.transpose() * s.w;
+  // the lever arm matters here: without it the reading would differ by this much
+  const Eigen::Vector3d body_f =
+      R_k.transpose() * (s.R.inverse() * Eigen::Vector3d(s.a - 9.81 * g_dir));
+  EXPECT_GT((f_k - body_f).norm(), 0.01);
+
+  const Eigen::Vector3d bg(0.01, -0.02, 0.03), ba(0.1, 0.05, -0.2);
+  const Knot pose = body_from_imu.ambient();
+  std::vector<const double*> blocks = {k[0].data(), k[1].data(), k[2].data(), k[3].data(),
+                                       pose.data()};
+  auto gyro = MakeSplineOffsetGyroFactor(u, dt, w_k + bg, NoiseModel::Isotropic(3, 1.0));
+  std::vector<const double*> gb = blocks;
+  gb.push_back(bg.data());
+  Eigen::Vector3d r;
+  ASSERT_TRUE(gyro->Evaluate(gb.data(), r.data(), nullptr));
+  EXPECT_LT(r.norm(), 1e-12);
+  auto accel = MakeSplineOffsetAccelFactor(u, dt, f_k + ba, NoiseModel::Isotropic(3, 1.0));
+  std::vector<const double*> ab = blocks;
+  ab.push_back(ba.data());
+  ab.push_back(g_dir.data());
+  ASSERT_TRUE(accel->Evaluate(ab.data(), r.data(), nullptr));
+  EXPECT_LT(r.norm(), 1e-4 * (1 + f_k.norm()));
 }
 
 }  // namespace

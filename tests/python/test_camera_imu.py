@@ -5,8 +5,8 @@ recordings with known truth (the true trajectory a spline on the same knot grid)
 import numpy as np
 import pytest
 from boxplus import SE3, SO3
-from boxplus.calib.camera_imu import CameraFrames, CameraImuData, calibrate_camera_imu
-from boxplus.synthetic.camera_imu import SimulatedCamera, simulate_camera_imu
+from boxplus.calib.camera_imu import CameraFrames, CameraImuData, ImuSamples, calibrate_camera_imu
+from boxplus.synthetic.camera_imu import SimulatedCamera, SimulatedImu, simulate_camera_imu
 
 
 @pytest.mark.parametrize("seed, offset", [(0, 0.007), (1, -0.031)])
@@ -169,3 +169,35 @@ def test_a_rolling_shutter_is_modelled_and_named_when_it_is_not():
     assert abs(ell - 30e-6) < 4 * sigma and abs(ell - 30e-6) < 1e-6
     assert cal.problem.rms()["reprojection"] == pytest.approx(0.3 * np.sqrt(2), rel=0.1)
     assert "line_delay[0]" in cal.todict()["std"]
+
+
+def test_a_second_imu_is_placed_by_its_lever_arm_and_rotation():
+    # A second IMU 10 cm from the first, turned, sampled half a period later on the same
+    # clock: it reads the body's rotation in its own axes and its own position's
+    # acceleration (the lever arm's α × r + ω × (ω × r)); its pose in the first IMU's
+    # frame and its biases come out within σ and within a millimetre / 0.05°.
+    rng = np.random.default_rng(0)
+    ic = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
+    i01 = SE3(SO3.exp(np.array([0.3, -1.2, 0.5])), np.array([0.08, -0.03, 0.05]))
+    bg, ba = np.array([0.02, 0.01, -0.01]), np.array([0.2, -0.1, 0.05])
+    data, truth, K = simulate_camera_imu(rng, time_offset=0.007, imu_from_cam=ic,
+                                         other_imus=[SimulatedImu(i01, bg, ba, phase=0.0025)])
+    cal = calibrate_camera_imu(data, K, pixel_sigma=0.3)
+    assert cal.imu_names == ["imu0", "imu1"] and truth["imu0_from_imus"][1] is i01
+    est = cal.imu0_from_imus[1]
+    err = np.r_[est.pos - i01.pos, (i01.rot.inverse() * est.rot).log()]
+    assert np.all(np.abs(err) < 4 * cal.std("imu0_from_imu[1]"))
+    assert np.linalg.norm(err[:3]) < 1e-3 and np.degrees(np.linalg.norm(err[3:])) < 0.05
+    assert np.all(np.abs(cal.imu_gyro_biases[1] - bg) < 4 * cal.std("imu_gyro_bias[1]"))
+    assert np.all(np.abs(cal.imu_accel_biases[1] - ba) < 4 * cal.std("imu_accel_bias[1]"))
+    rms = cal.problem.rms()
+    assert rms["accelerometer imu1"] == pytest.approx(0.05 * np.sqrt(3), rel=0.1)
+    assert "imu0_from_imu[1]" in cal.todict()["std"]
+    # the camera's calibration is as good as with one IMU
+    err0 = np.r_[cal.imu_from_cam.pos - ic.pos, (ic.rot.inverse() * cal.imu_from_cam.rot).log()]
+    assert np.all(np.abs(err0) < 4 * cal.std("imu_from_cam"))
+    late = CameraImuData(data.frame_times, data.corners, data.imu_times, data.gyro, data.accel,
+                         other_imus=[ImuSamples(data.other_imus[0].imu_times + 100.0, data.other_imus[0].gyro,
+                                                data.other_imus[0].accel, "late")])
+    with pytest.raises(ValueError, match="IMU late: 0 samples inside the spline's time span"):
+        calibrate_camera_imu(late, K, pixel_sigma=0.3)

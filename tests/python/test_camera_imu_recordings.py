@@ -20,13 +20,15 @@ from boxplus.calib.recordings import (  # noqa: E402
     read_kalibr_target,
 )
 from boxplus.calib.targets import parse_target  # noqa: E402
-from boxplus.synthetic.camera_imu import SimulatedCamera, simulate_camera_imu  # noqa: E402
+from boxplus.synthetic.camera_imu import SimulatedCamera, SimulatedImu, simulate_camera_imu  # noqa: E402
 from boxplus.synthetic.images import render_view  # noqa: E402
 
 ORIGIN_NS = 1_403_636_579_758_555_392  # an EuRoC-sized timestamp: seconds would lose µs
 IMU_FROM_CAM = SE3(SO3.exp(np.array([0.1, -0.05, 1.2])), np.array([0.05, 0.02, -0.03]))
 # a second camera 11 cm beside the first, triggered with it (cam1: the stereo tests)
 IMU_FROM_CAM1 = IMU_FROM_CAM * SE3(SO3.exp(np.array([0.01, 0.03, -0.02])), np.array([0.11, 0.0, 0.0]))
+# a second IMU (imu1) 9 cm from the first, turned
+IMU0_FROM_IMU1 = SE3(SO3.exp(np.array([0.2, 1.1, -0.4])), np.array([-0.09, 0.02, 0.03]))
 
 
 @pytest.fixture(scope="module")
@@ -36,7 +38,9 @@ def recording(tmp_path_factory):
     root = tmp_path_factory.mktemp("rec") / "mav0"
     data, truth, K = simulate_camera_imu(np.random.default_rng(5), duration=3.0, camera_rate=12.0,
                                          time_offset=0.012, imu_from_cam=IMU_FROM_CAM,
-                                         other_cameras=[SimulatedCamera(IMU_FROM_CAM1, 0.012)])
+                                         other_cameras=[SimulatedCamera(IMU_FROM_CAM1, 0.012)],
+                                         other_imus=[SimulatedImu(IMU0_FROM_IMU1, (0.01, 0.0, -0.02),
+                                                                  (0.1, 0.05, 0.0), phase=0.0013)])
     target = parse_target("chessboard:7x6:0.06")
     world_from_board = SE3(SO3(), np.array([-0.18, -0.15, 0.0]))
     (root / "imu0").mkdir(parents=True)
@@ -53,13 +57,15 @@ def recording(tmp_path_factory):
                                     rng=np.random.default_rng(int(t * 1e3) + 7919 * c))
                 cv2.imwrite(str(root / cam.name / "data" / name), image)
                 w.writerow([ns(t), name])
-    with open(root / "imu0" / "data.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["#timestamp [ns]", "w_RS_S_x [rad s^-1]", "w_RS_S_y [rad s^-1]",
-                    "w_RS_S_z [rad s^-1]", "a_RS_S_x [m s^-2]", "a_RS_S_y [m s^-2]",
-                    "a_RS_S_z [m s^-2]"])
-        for t, g, a in zip(data.imu_times, data.gyro, data.accel):
-            w.writerow([ns(t), *(f"{v:.17g}" for v in g), *(f"{v:.17g}" for v in a)])
+    (root / "imu1").mkdir()
+    for folder_name, imu in (("imu0", data), ("imu1", data.other_imus[0])):
+        with open(root / folder_name / "data.csv", "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["#timestamp [ns]", "w_RS_S_x [rad s^-1]", "w_RS_S_y [rad s^-1]",
+                        "w_RS_S_z [rad s^-1]", "a_RS_S_x [m s^-2]", "a_RS_S_y [m s^-2]",
+                        "a_RS_S_z [m s^-2]"])
+            for t, g, a in zip(imu.imu_times, imu.gyro, imu.accel):
+                w.writerow([ns(t), *(f"{v:.17g}" for v in g), *(f"{v:.17g}" for v in a)])
     folder = root.parent
     (folder / "imu.yaml").write_text(
         f"accelerometer_noise_density: {0.05 / math.sqrt(200):.17g}\n"
@@ -203,6 +209,46 @@ def test_a_global_shutter_fitted_as_rolling_has_no_line_delay(recording, tmp_pat
     assert abs(ell) < 4 * sigma and sigma < 2e-6
     assert "line delay: " in (out / "report.txt").read_text()
     assert "line_delay" not in (out / "camchain-imucam.yaml").read_text()  # Kalibr has no field
+
+
+def test_the_command_line_places_a_second_imu(recording, tmp_path, capsys):
+    # EuRoC's imu0 and imu1 (imu1 sampled 1.3 ms after imu0, its own first stamp: the
+    # reader re-bases it on imu0's clock); Kalibr's imu result file has T_i_b, the body
+    # (imu0) into imu1, which must be the truth within the σ of boxplus' own file
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    out = tmp_path / "out"
+    assert main([str(folder), "--imu-folder", "imu0", "imu1", "--intrinsics",
+                 str(folder / "calibration.yml"), "--target", str(folder / "target.yaml"),
+                 "--imu", str(folder / "imu.yaml"), "--pixel-sigma", "0.3", "--out", str(out),
+                 "--quiet", "--no-plots"]) == 0
+    doc = yaml.safe_load((out / "imu-imucam.yaml").read_text())
+    own = yaml.safe_load((out / "camera_imu.yaml").read_text())
+    np.testing.assert_allclose(doc["imu0"]["T_i_b"], np.eye(4), atol=1e-15)
+    T = np.array(doc["imu1"]["T_i_b"])  # imu1_from_imu0
+    est = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
+    err = np.r_[est.pos - IMU0_FROM_IMU1.pos, (IMU0_FROM_IMU1.rot.inverse() * est.rot).log()]
+    assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu0_from_imu[1]"]))
+    assert np.linalg.norm(err[:3]) < 5e-3
+    assert doc["imu1"]["update_rate"] == pytest.approx(200.0) and doc["imu1"]["time_offset"] == 0.0
+    assert "imu0_from_imu1 (its lever arm" in (out / "report.txt").read_text()
+    # one --imu file per IMU or one for all: three for two is refused
+    base = [str(folder), "--imu-folder", "imu0", "imu1", "--target", str(folder / "target.yaml"),
+            "--quiet", "--no-plots"]
+    with pytest.raises(SystemExit) as stop:
+        main([*base, "--intrinsics", str(folder / "calibration.yml"), "--out", str(tmp_path / "o2"),
+              "--imu", *[str(folder / "imu.yaml")] * 3])
+    assert stop.value.code == 2
+    # a run again from its own result (the camchain as intrinsics, the same --out) would
+    # write over its input: refused before anything runs, the input kept
+    before = (out / "camchain-imucam.yaml").read_bytes()
+    with pytest.raises(SystemExit) as stop:
+        main([*base, "--intrinsics", str(out / "camchain-imucam.yaml"), "--out", str(out),
+              "--imu", str(folder / "imu.yaml")])
+    assert stop.value.code == 2
+    assert "writing camchain-imucam.yaml there would overwrite an input file" in capsys.readouterr().err
+    assert (out / "camchain-imucam.yaml").read_bytes() == before
 
 
 def test_the_command_line_refuses_bad_input_by_name(recording, tmp_path, capsys):

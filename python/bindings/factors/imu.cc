@@ -42,14 +42,14 @@ void RegisterImuFactors(py::module_& m) {
       [](const Eigen::Matrix<double, 4, 7, Eigen::RowMajor>& knots, double u, double dt) {
         const double* k[4] = {knots.row(0).data(), knots.row(1).data(), knots.row(2).data(),
                               knots.row(3).data()};
-        Eigen::Vector3d p, v, a, w;
+        Eigen::Vector3d p, v, a, w, alpha;
         Eigen::Vector4d q;
-        spline::Evaluate(k, u, dt, p.data(), q.data(), v.data(), a.data(), w.data());
-        return py::make_tuple(p, q, v, a, w);
+        spline::Evaluate(k, u, dt, p.data(), q.data(), v.data(), a.data(), w.data(), alpha.data());
+        return py::make_tuple(p, q, v, a, w, alpha);
       },
       py::arg("knots"), py::arg("u"), py::arg("dt"),
-      "(p, q, v, a, ω_body) of the R³ × SO(3) cubic B-spline segment whose 4 control points "
-      "are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).");
+      "(p, q, v, a, ω_body, α_body) of the R³ × SO(3) cubic B-spline segment whose 4 control "
+      "points are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).");
   m.def(
       "spline_gyro_factor",
       [](const std::vector<int>& knots, int bias, double u, double dt, const Eigen::Vector3d& z,
@@ -75,6 +75,35 @@ void RegisterImuFactors(py::module_& m) {
       py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
       "r = W (R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of "
       "gravity in the world frame); see factors/imu/spline_terms.h.");
+  m.def(
+      "spline_offset_gyro_factor",
+      [](const std::vector<int>& knots, int body_from_imu, int bias, double u, double dt,
+         const Eigen::Vector3d& z, const NoiseModel& noise) {
+        if (knots.size() != 4) throw py::value_error("spline_offset_gyro_factor: 4 control points");
+        std::vector<int> ids = knots;
+        ids.push_back(body_from_imu);
+        ids.push_back(bias);
+        return Factor{MakeSplineOffsetGyroFactor(u, dt, z, noise), ids, noise};
+      },
+      py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("u"), py::arg("dt"),
+      py::arg("z"), py::arg("noise"),
+      "Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z); see factors/imu/spline_terms.h.");
+  m.def(
+      "spline_offset_accel_factor",
+      [](const std::vector<int>& knots, int body_from_imu, int bias, int gravity, double u,
+         double dt, const Eigen::Vector3d& z, const NoiseModel& noise, double g) {
+        if (knots.size() != 4)
+          throw py::value_error("spline_offset_accel_factor: 4 control points");
+        std::vector<int> ids = knots;
+        ids.push_back(body_from_imu);
+        ids.push_back(bias);
+        ids.push_back(gravity);
+        return Factor{MakeSplineOffsetAccelFactor(u, dt, z, noise, g), ids, noise};
+      },
+      py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("gravity"), py::arg("u"),
+      py::arg("dt"), py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
+      "Another IMU's accelerometer, with its lever arm: r = W (R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + "
+      "ω × (ω × r)) + b_a − z); see factors/imu/spline_terms.h.");
   m.def(
       "spline_reprojection_factor",
       [](const std::string& model, const std::vector<int>& knots, int imu_from_cam, int offset,

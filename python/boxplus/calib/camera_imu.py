@@ -40,7 +40,11 @@ together), its own time offset (as Kalibr's camchain-imucam has ``T_cam_imu`` an
 from every camera's consistent poses. A rolling-shutter camera (``rolling_shutter``)
 reads row v at its frame's timestamp + ℓ·v: each corner is reprojected from the pose
 at t_c + d + ℓ·v (v its measured row), ℓ per camera a variable, held with the
-extrinsics and offsets in the first solve. Each corner's spline segment is chosen at the start's
+extrinsics and offsets in the first solve. More IMUs (``other_imus``) are placed in
+the first IMU's frame (imu0_from_imu, started by aligning their gyroscopes with the
+first one's): their gyroscope reads R_kᵀ ω + b, their accelerometer R_kᵀ (f + α × r +
+ω × (ω × r)) + b, f the body's specific force and α the spline's angular
+acceleration (``spline_terms.h``); they share the first IMU's clock. Each corner's spline segment is chosen at the start's
 offset; the solve's offset may move it by a fraction of a knot spacing (the segment's
 polynomials extrapolate). :func:`boxplus.synthetic.camera_imu.simulate_camera_imu` makes data with known truth.
 """
@@ -61,7 +65,7 @@ from boxplus.manifolds import S2, SE3, SO3, Rn
 from boxplus.noise import NoiseModel
 from boxplus.problem import OptimizationProblem
 
-__all__ = ["CameraFrames", "CameraImuCalibration", "CameraImuData", "calibrate_camera_imu",
+__all__ = ["CameraFrames", "CameraImuCalibration", "CameraImuData", "ImuSamples", "calibrate_camera_imu",
            "spline_segment"]
 
 
@@ -76,13 +80,26 @@ class CameraFrames:
 
 
 @dataclass
+class ImuSamples:
+    """Another IMU on the rig: its samples, time-stamped on the first IMU's clock
+    (imu_times (M,) s, gyro (M, 3) rad/s, accel (M, 3) m/s²)."""
+
+    imu_times: np.ndarray
+    gyro: np.ndarray
+    accel: np.ndarray
+    name: str = ""
+
+
+@dataclass
 class CameraImuData:
     """What a camera–IMU recording holds.
 
     frame_times: (F,) camera timestamps (s, the camera's clock); corners: per frame
     (pixels (N, 2), target points (N, 3)) or None; imu_times (M,) (s, the IMU's clock);
     gyro (M, 3) rad/s; accel (M, 3) m/s². A rig of several cameras lists the others in
-    ``other_cameras`` (each with its own frame times); ``camera_name`` names the first."""
+    ``other_cameras`` (each with its own frame times); ``camera_name`` names the first.
+    A rig of several IMUs lists the others in ``other_imus`` (:class:`ImuSamples`; the
+    first IMU is the body whose trajectory is estimated)."""
 
     frame_times: np.ndarray
     corners: list[Any]
@@ -91,6 +108,7 @@ class CameraImuData:
     accel: np.ndarray
     other_cameras: list[CameraFrames] = field(default_factory=list)
     camera_name: str = "cam0"
+    other_imus: list[ImuSamples] = field(default_factory=list)
 
     @property
     def cameras(self) -> list[CameraFrames]:
@@ -130,6 +148,12 @@ class CameraImuCalibration:
     time_offsets: list[float] = field(default_factory=list)
     # per camera: the rolling shutter's line delay (s per row), None for a global shutter
     line_delays: list[float | None] = field(default_factory=list)
+    # per IMU (the first, the body, first): its pose in the first IMU's frame (the lever
+    # arm and rotation) and its biases' means
+    imu_names: list[str] = field(default_factory=list)
+    imu0_from_imus: list[SE3] = field(default_factory=list)
+    imu_gyro_biases: list[np.ndarray] = field(default_factory=list)
+    imu_accel_biases: list[np.ndarray] = field(default_factory=list)
 
     def cam_from_cam(self, c: int, ref: int = 0) -> SE3:
         """cam_c_from_cam_ref: camera ``ref``'s coordinates into camera c's (Kalibr's
@@ -165,6 +189,8 @@ class CameraImuCalibration:
         names += [f"{v}[{c}]" for c in range(1, len(self.imu_from_cams))
                   for v in ("imu_from_cam", "time_offset")]
         names += [f"line_delay[{c}]" for c, ell in enumerate(self.line_delays) if ell is not None]
+        names += [f"{v}[{k}]" for k in range(1, len(self.imu0_from_imus))
+                  for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias")]
         return {**fields_todict(self, skip=("problem", "ids")),
                 "std": {n: self.std(n).tolist() for n in names},
                 "knots": self.n_knots}
@@ -270,7 +296,9 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                          accel_random_walk: float | None = None,
                          bias_spacing: float = 0.1, common_clock: bool = False,
                          rolling_shutter: bool | list[bool] = False,
-                         line_delay: float | list[float] = 0.0) -> CameraImuCalibration:
+                         line_delay: float | list[float] = 0.0,
+                         other_imu_sigmas: list[tuple[float, float]] | None = None
+                         ) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
 
@@ -281,6 +309,10 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     ``rolling_shutter`` (one flag, or one per camera): the camera reads its rows one
     after the other, row v at its timestamp + ℓ·v; the line delay ℓ (s per row) is
     estimated from ``line_delay`` (default 0; one value or one per camera).
+    Several IMUs (``data.other_imus``): each gets its pose in the first IMU's frame
+    (imu0_from_imu, the lever arm included) and its own biases (segments as the first
+    IMU's); ``other_imu_sigmas`` gives their (gyro σ, accel σ) per sample, else the
+    first IMU's. They share its clock (no time offset between IMUs).
     ``gyro_sigma``/``accel_sigma``: the per-sample noise
     (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
     (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
@@ -428,6 +460,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                      group="gyroscope")
         o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
                                                gravity_magnitude), group="accelerometer")
+    imus = _add_other_imus(o, ids, data, knots, t0, dt, bias_times, walks, gyro_sigma, accel_sigma,
+                           other_imu_sigmas, gravity_magnitude, t_imu, gyro)
     groups = [f"reprojection {cam.name}" if several else "reprojection" for cam in cameras]
     for c, fr in enumerate(frames):
         ell_id = ids.get(f"line_delay[{c}]")
@@ -445,7 +479,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     # first the trajectory, biases and gravity with the offsets and the extrinsics held
     # at their start, then everything
     held = sorted({ids[f"{v}[{c}]"] for c in range(n_cam) for v in ("imu_from_cam", "time_offset")}
-                  | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]})
+                  | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]}
+                  | {ids[f"imu0_from_imu[{k}]"] for k in range(1, len(imus) + 1)})
     for vid in held:
         o.fix(vid)
     o.solve(method="auto", max_iterations=50, check_determined=False)
@@ -456,6 +491,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     rms = o.rms()
     bad = [f"{g} RMS {rms[g]:.3g} (noise {s:.3g})" for g, s in
            [("gyroscope", gyro_sigma * np.sqrt(3)), ("accelerometer", accel_sigma * np.sqrt(3))]
+           + [(g, sg * np.sqrt(3)) for name, gs, as_ in imus for g, sg in
+              ((f"gyroscope {name}", gs), (f"accelerometer {name}", as_))]
            + [(g, pixel_sigma * np.sqrt(2)) for g in groups] if g in rms and not rms[g] < 10 * s]
     moved = [f"{'camera ' + cam.name + ': ' if several else ''}time offset {d:.4g} s from a start "
              f"of {d0:.4g} s" for cam, d, d0 in zip(cameras, offsets, d0s) if abs(d - d0) > knot_spacing]
@@ -485,7 +522,75 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
         {"time_offset": d0s[0], "imu_from_cam": SE3(SO3(R_ics[0]), np.zeros(3)),
          "time_offsets": d0s}, bias_times, gyro_biases, accel_biases,
         [cam.name for cam in cameras], imu_from_cams, offsets,
-        [float(o[ids[f"line_delay[{c}]"]].vec[0]) if rolling[c] else None for c in range(n_cam)])
+        [float(o[ids[f"line_delay[{c}]"]].vec[0]) if rolling[c] else None for c in range(n_cam)],
+        ["imu0", *(name for name, _, _ in imus)],
+        [SE3(), *(o[ids[f"imu0_from_imu[{k}]"]] for k in range(1, len(imus) + 1))],
+        [gyro_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.gyro_bias") for k in range(1, len(imus) + 1))],
+        [accel_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.accel_bias") for k in range(1, len(imus) + 1))])
+
+
+def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImuData, knots: list[int],
+                    t0: float, dt: float, bias_times: np.ndarray, walks: tuple[float, float] | None,
+                    gyro_sigma: float, accel_sigma: float, sigmas: list[tuple[float, float]] | None,
+                    gravity_magnitude: float, t_body: np.ndarray,
+                    gyro_body: np.ndarray) -> list[tuple[str, float, float]]:
+    """The terms of every IMU after the first (calibrate_camera_imu's docstring): its pose
+    imu0_from_imu (ids "imu0_from_imu[k]", the rotation started by aligning its gyroscope
+    with the first one's, Wahba; the lever arm at 0), its biases ("imu{k}.gyro_bias[s]",
+    "imu{k}.accel_bias[s]", on the first IMU's segments) and its samples inside the
+    spline. Returns (name, gyro σ, accel σ) per IMU."""
+    imus = data.other_imus
+    if sigmas is not None and len(sigmas) != len(imus):
+        raise ValueError(f"calibrate_camera_imu: {len(sigmas)} other_imu_sigmas for {len(imus)} other IMUs")
+    n_knots = len(knots)
+    n_seg = len(bias_times) - 1
+    out = []
+    for k, imu in enumerate(imus, start=1):
+        name = imu.name or f"imu{k}"
+        t = np.asarray(imu.imu_times, float)
+        g, a = np.asarray(imu.gyro, float), np.asarray(imu.accel, float)
+        if not (len(t) == len(g) == len(a)) or len(t) < 10 or np.any(np.diff(t) <= 0):
+            raise ValueError(f"calibrate_camera_imu: IMU {name}: times must increase, one gyro and "
+                             f"accel row each (at least 10)")
+        gs, acs = sigmas[k - 1] if sigmas is not None else (gyro_sigma, accel_sigma)
+        # ω_body = R_k ω_k: the rotation of imu0_from_imu from both gyroscopes
+        w_body = np.stack([np.interp(t, t_body, gyro_body[:, j]) for j in range(3)], axis=1)
+        R = rotation_between(g, w_body)
+        ids[f"imu0_from_imu[{k}]"] = o.add_random_var(SE3(SO3(R), np.zeros(3)), name=f"imu0_from_{name}")
+        inside = (t >= t0) & (t < t0 + (n_knots - 3) * dt)
+        if inside.sum() < 10:
+            raise ValueError(f"calibrate_camera_imu: IMU {name}: {inside.sum()} samples inside the "
+                             f"spline's time span; need at least 10 (its clock must be the first IMU's)")
+        segment = np.clip(np.searchsorted(bias_times, t[inside], side="right") - 1, 0, n_seg - 1)
+        for kind in ("gyro_bias", "accel_bias"):
+            for seg in range(n_seg):
+                ids[f"imu{k}.{kind}[{seg}]"] = o.add_random_var(Rn(np.zeros(3)), name=f"{name}.{kind}[{seg}]",
+                                                                labels=["x", "y", "z"])
+            ids[f"imu_{kind}[{k}]"] = ids[f"imu{k}.{kind}"] = ids[f"imu{k}.{kind}[0]"]
+        if walks is not None and n_seg > 1:
+            for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
+                pairs = np.array([[ids[f"imu{k}.{kind}[{s}]"], ids[f"imu{k}.{kind}[{s + 1}]"]]
+                                  for s in range(n_seg - 1)])
+                o.add_measurements(np.zeros((n_seg - 1, 3)), bias_walk, pairs,
+                                   sigma=q * np.sqrt(bias_times[1] - bias_times[0]), name=f"{name} {kind} walk")
+        gn, an = NoiseModel.isotropic(3, gs), NoiseModel.isotropic(3, acs)
+        pose = ids[f"imu0_from_imu[{k}]"]
+        for ti, w, f, seg in zip(t[inside], g[inside], a[inside], segment):
+            i, u = spline_segment(ti, t0, dt, n_knots)
+            kn = knots[i:i + 4]
+            o.add_factor(_core.spline_offset_gyro_factor(kn, pose, ids[f"imu{k}.gyro_bias[{seg}]"], u, dt, w, gn),
+                         group=f"gyroscope {name}")
+            o.add_factor(_core.spline_offset_accel_factor(kn, pose, ids[f"imu{k}.accel_bias[{seg}]"],
+                                                          ids["gravity"], u, dt, f, an, gravity_magnitude),
+                         group=f"accelerometer {name}")
+        out.append((name, gs, acs))
+    return out
+
+
+def _bias_mean(o: OptimizationProblem, ids: dict[str, int], prefix: str) -> np.ndarray:
+    """The mean of a bias' segments ("<prefix>[s]")."""
+    segs = [ids[n] for n in ids if n.startswith(prefix + "[")]
+    return np.mean([o[v].vec for v in segs], axis=0)
 
 
 def bias_walk(b0: Any, b1: Any) -> np.ndarray:

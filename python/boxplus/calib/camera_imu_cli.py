@@ -17,7 +17,9 @@ A rig of several cameras and one IMU (a stereo pair, N cameras) is calibrated to
 on one trajectory: ``--cam cam0 cam1`` (EuRoC) or ``--image-topic /cam0/image_raw
 /cam1/image_raw`` (bags), the i-th camera with the i-th camera of ``--intrinsics`` (or
 of ``--camera-name``); ``--common-clock`` when they are triggered together (one time
-offset). ``--rolling-shutter`` estimates each camera's line delay (Kalibr's camchain has
+offset). More IMUs (``--imu-folder imu0 imu1``, ``--imu-topic /imu0 /imu1``) are placed
+in the first one's frame (``imu-imucam.yaml``, Kalibr's ``T_i_b``).
+``--rolling-shutter`` estimates each camera's line delay (Kalibr's camchain has
 no field for it: it is in ``camera_imu.yaml`` and the report). It
 
 writes ``camchain-imucam.yaml`` (Kalibr's file: ``T_cam_imu``, ``timeshift_cam_imu``
@@ -61,9 +63,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--target", required=True,
                     help="Kalibr's target.yaml, or chessboard:COLSxROWS:SQUARE / "
                          "aprilgrid:COLSxROWS:TAG:SPACING (metres)")
-    ap.add_argument("--imu", metavar="IMU_YAML",
-                    help="Kalibr's imu.yaml (noise densities and rate); else --gyro-sigma and "
-                         "--accel-sigma")
+    ap.add_argument("--imu", metavar="IMU_YAML", nargs="+",
+                    help="Kalibr's imu.yaml (noise densities and rate), one for every IMU or one "
+                         "per IMU; else --gyro-sigma and --accel-sigma")
     ap.add_argument("--gyro-sigma", type=float, default=None,
                     help="σ of one gyroscope sample (rad/s)")
     ap.add_argument("--accel-sigma", type=float, default=None,
@@ -92,12 +94,14 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--line-delay", type=float, default=0.0, metavar="SECONDS",
                     help="with --rolling-shutter: the line delay to start from, s per row "
                          "(default 0)")
-    ap.add_argument("--imu-folder", default="imu0", help="EuRoC: the IMU's subfolder (default imu0)")
+    ap.add_argument("--imu-folder", nargs="+", default=["imu0"], metavar="FOLDER",
+                    help="EuRoC: the IMUs' subfolders (default imu0; the first is the body whose "
+                         "trajectory is estimated, the others are placed in its frame)")
     ap.add_argument("--image-topic", nargs="+", default=None, metavar="TOPIC",
                     help="bag: the cameras' topics (sensor_msgs/Image or CompressedImage; "
                          "default: the bag's only one)")
-    ap.add_argument("--imu-topic", default=None,
-                    help="bag: the IMU's topic (sensor_msgs/Imu; default: the bag's only one)")
+    ap.add_argument("--imu-topic", nargs="+", default=None, metavar="TOPIC",
+                    help="bag: the IMUs' topics (sensor_msgs/Imu; default: the bag's only one)")
     ap.add_argument("--out", type=Path, default=Path("camera_imu"),
                     help="output folder (default ./camera_imu); files are written atomically")
     ap.add_argument("--no-plots", action="store_true", help="write no PNG")
@@ -148,32 +152,60 @@ def _target(spec: str) -> Any:
         raise _fail(f"--target: {e}") from None
 
 
-def _noise(args: Any) -> tuple[float, float, float | None, float | None]:
-    """(gyro σ, accel σ per sample, gyro and accel random walks or None)."""
+def _noise(args: Any, n_imu: int) -> tuple[list[tuple[float, float]], float | None, float | None]:
+    """((gyro σ, accel σ) per sample for each IMU, the gyro and accel random walks or
+    None: the first IMU's)."""
     from boxplus.calib.recordings import read_kalibr_imu
 
     if args.imu:
-        try:
-            imu = read_kalibr_imu(args.imu)
-        except (OSError, ValueError) as e:
-            raise _fail(f"--imu: {e}") from None
-        gs, acs = imu.gyro_sigma, imu.accel_sigma
-        gw: float | None = imu.gyro_random_walk
-        aw: float | None = imu.accel_random_walk
+        if len(args.imu) not in (1, n_imu):
+            raise _fail(f"--imu: {len(args.imu)} files for {n_imu} IMUs: give one for all or one each")
+        sigmas = []
+        for path in args.imu:
+            try:
+                imu = read_kalibr_imu(path)
+            except (OSError, ValueError) as e:
+                raise _fail(f"--imu: {e}") from None
+            sigmas.append((imu.gyro_sigma, imu.accel_sigma))
+            if len(sigmas) == 1:
+                gw: float | None = imu.gyro_random_walk
+                aw: float | None = imu.accel_random_walk
+        sigmas *= n_imu if len(sigmas) == 1 else 1
     else:
         if args.gyro_sigma is None or args.accel_sigma is None:
             raise _fail("give the IMU's noise: --imu imu.yaml, or --gyro-sigma and --accel-sigma")
-        gs, acs, gw, aw = (args.gyro_sigma, args.accel_sigma, args.gyro_random_walk,
-                           args.accel_random_walk)
-    for name, v in (("--gyro-sigma", gs), ("--accel-sigma", acs), ("--gyro-random-walk", gw),
-                    ("--accel-random-walk", aw)):
+        sigmas = [(args.gyro_sigma, args.accel_sigma)] * n_imu
+        gw, aw = args.gyro_random_walk, args.accel_random_walk
+    for name, v in (("--gyro-sigma", sigmas[0][0]), ("--accel-sigma", sigmas[0][1]),
+                    ("--gyro-random-walk", gw), ("--accel-random-walk", aw)):
         if v is not None and not (np.isfinite(v) and v > 0):
             raise _fail(f"{name} must be positive, got {v}")
     if (gw is None) != (aw is None):
         raise _fail("give both random walks (--gyro-random-walk and --accel-random-walk) or neither")
     if args.constant_biases:
         gw = aw = None
-    return gs, acs, gw, aw
+    return sigmas, gw, aw
+
+
+def _other_imus(args: Any, source: Path, bag: bool, first: Any) -> list[Any]:
+    """The samples of every IMU after the first (--imu-folder / --imu-topic), their
+    times re-based on the first IMU's origin (each reader counts from its own first
+    stamp)."""
+    from boxplus.calib.bags import read_bag
+    from boxplus.calib.camera_imu import ImuSamples
+    from boxplus.calib.recordings import read_euroc
+
+    names = (args.imu_topic or [None])[1:] if bag else args.imu_folder[1:]
+    out = []
+    for name in names:
+        try:
+            rec = (read_bag(source, first.image_topic, name) if bag
+                   else read_euroc(source, args.cam[0], name))
+        except (OSError, ValueError, ImportError) as e:
+            raise _fail(str(e)) from None
+        shift = (rec.origin_ns - first.origin_ns) * 1e-9
+        out.append(ImuSamples(rec.imu_times + shift, rec.gyro, rec.accel, str(name).strip("/")))
+    return out
 
 
 def _pose_lines(pose: Any, sigma: np.ndarray) -> list[str]:
@@ -210,6 +242,14 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
     for c in range(1, len(cameras)):
         lines.append(f"{cameras[c].name}_from_{cameras[c - 1].name} (T_cn_cnm1; value ± σ):")
         lines += _pose_lines(cal.cam_from_cam(c, c - 1), cal.cam_from_cam_std(c, c - 1))
+    for k in range(1, len(cal.imu_names)):
+        name = cal.imu_names[k]
+        lines.append(f"imu0_from_{name} (its lever arm and rotation in the first IMU's frame; "
+                     f"value ± σ):")
+        lines += _pose_lines(cal.imu0_from_imus[k], cal.std(f"imu0_from_imu[{k}]"))
+        lines.append(f"{name} biases: gyroscope (rad/s) "
+                     + " ".join(f"{v:+.5f}" for v in cal.imu_gyro_biases[k])
+                     + ", accelerometer (m/s²) " + " ".join(f"{v:+.4f}" for v in cal.imu_accel_biases[k]))
     lines += [
         "gyroscope bias (rad/s): " + " ".join(f"{v:+.5f}" for v in cal.gyro_bias)
         + "  ± " + " ".join(f"{v:.5f}" for v in cal.std("gyro_bias")),
@@ -225,6 +265,25 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
     return "\n".join(lines)
 
 
+# every file a run writes into --out
+_OUTPUTS = ("camchain-imucam.yaml", "camera_imu.yaml", "report.txt", "camera_imu.png", "imu-imucam.yaml")
+
+
+def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool) -> dict[str, Any]:
+    """Kalibr's imu result YAML for a rig of several IMUs: per IMU ``T_i_b`` (the body
+    (first IMU) into this IMU's frame, 4 × 4), ``time_offset`` (0: one clock),
+    ``update_rate`` (from the samples' median spacing) and ``rostopic``."""
+    topics = (args.imu_topic or [None]) if bag else [None] * len(cal.imu_names)
+    rates = [np.asarray(data.imu_times), *(np.asarray(i.imu_times) for i in data.other_imus)]
+    doc = {}
+    for k, (name, pose) in enumerate(zip(cal.imu_names, cal.imu0_from_imus)):
+        doc[f"imu{k}"] = {"T_i_b": [[float(v) for v in row] for row in pose.inverse().matrix()],
+                          "time_offset": 0.0,
+                          "update_rate": float(1.0 / np.median(np.diff(rates[k]))),
+                          "rostopic": topics[k] or f"/{name}"}
+    return doc
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     from boxplus.calib import io
@@ -237,15 +296,24 @@ def main(argv: list[str] | None = None) -> int:
     n_cam = len(args.image_topic or [None]) if bag else len(args.cam)
     cameras = _cameras(args, n_cam)
     target = _target(args.target)
-    gyro_sigma, accel_sigma, gyro_walk, accel_walk = _noise(args)
+    n_imu = len(args.imu_topic or [None]) if bag else len(args.imu_folder)
+    imu_sigmas, gyro_walk, accel_walk = _noise(args, n_imu)
+    gyro_sigma, accel_sigma = imu_sigmas[0]
+    imu_topic = (args.imu_topic or [None])[0]
     try:
         if bag:
-            recordings: list[Any] = [read_bag(source, t, args.imu_topic)
+            recordings: list[Any] = [read_bag(source, t, imu_topic)
                                      for t in (args.image_topic or [None])]
         else:
-            recordings = [read_euroc(source, c, args.imu_folder) for c in args.cam]
+            recordings = [read_euroc(source, c, args.imu_folder[0]) for c in args.cam]
     except (OSError, ValueError, ImportError) as e:  # no rosbags: the message names the extra
         raise _fail(str(e)) from None
+    other_imus = _other_imus(args, source, bag, recordings[0])
+    inputs = [Path(p).resolve() for p in [args.intrinsics, args.target, *(args.imu or [])]]
+    clash = [n for n in _OUTPUTS if (args.out / n).resolve() in inputs]
+    if clash:
+        raise _fail(f"--out {args.out}: writing {clash[0]} there would overwrite an input file; "
+                    f"choose another folder")
     out = args.out
     if out.resolve() == source.resolve() or source.resolve() in out.resolve().parents:
         raise _fail(f"--out {out} is inside the recording {source}: choose another folder")
@@ -258,6 +326,7 @@ def main(argv: list[str] | None = None) -> int:
         # Ctrl-C during a solve stops it at its best estimate (the summary says
         # 'interrupted' and so does the report); during detection nothing is estimated yet
         data = detect_recording(recordings, target, progress, [c.name for c in cameras])
+        data.other_imus = other_imus
         several = len(cameras) > 1
         intrinsics = [c.intrinsics for c in cameras] if several else cameras[0].intrinsics
         models = [c.model for c in cameras] if several else cameras[0].model
@@ -268,7 +337,8 @@ def main(argv: list[str] | None = None) -> int:
                 accel_sigma=accel_sigma, knot_spacing=args.knot_spacing, max_offset=args.max_offset,
                 gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
                 bias_spacing=args.bias_spacing, common_clock=args.common_clock,
-                rolling_shutter=args.rolling_shutter, line_delay=args.line_delay)
+                rolling_shutter=args.rolling_shutter, line_delay=args.line_delay,
+                other_imu_sigmas=imu_sigmas[1:])
     except ValueError as e:
         raise _fail(str(e), code=1) from None
     except KeyboardInterrupt:
@@ -304,6 +374,9 @@ def main(argv: list[str] | None = None) -> int:
     io.write_yaml(out / "camera_imu.yaml", {**own, **cal.todict()})
     write_atomically(out / "report.txt", report + "\n")
     written += ["camera_imu.yaml", "report.txt"]
+    if len(cal.imu_names) > 1:
+        io.write_yaml(out / "imu-imucam.yaml", _kalibr_imus(cal, data, args, bag))
+        written.append("imu-imucam.yaml")
     if not args.no_plots:
         from boxplus.calib.plot import plot_camera_imu
 

@@ -16,11 +16,24 @@ from typing import Any
 import numpy as np
 
 from boxplus import _core
-from boxplus.calib.camera_imu import CameraFrames, CameraImuData, spline_segment
+from boxplus.calib.camera_imu import CameraFrames, CameraImuData, ImuSamples, spline_segment
 from boxplus.calib.models import project
 from boxplus.manifolds import SE3, SO3
 
-__all__ = ["SimulatedCamera", "simulate_camera_imu"]
+__all__ = ["SimulatedCamera", "SimulatedImu", "simulate_camera_imu"]
+
+
+@dataclass
+class SimulatedImu:
+    """One more IMU on the simulated rig: its pose in the first IMU's frame (lever arm
+    and rotation), its constant biases, and the phase of its samples after the first
+    IMU's (s), on the first IMU's clock and rate."""
+
+    imu0_from_imu: SE3
+    gyro_bias: Any = (0.0, 0.0, 0.0)
+    accel_bias: Any = (0.0, 0.0, 0.0)
+    phase: float = 0.0
+    name: str = ""
 
 
 @dataclass
@@ -47,7 +60,8 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                         gyro_bias: Any = (0.01, -0.02, 0.015), accel_bias: Any = (0.1, -0.05, 0.08),
                         knot_spacing: float = 0.05, gyro_random_walk: float = 0.0,
                         accel_random_walk: float = 0.0,
-                        other_cameras: Sequence[SimulatedCamera] = (), line_delay: float = 0.0
+                        other_cameras: Sequence[SimulatedCamera] = (), line_delay: float = 0.0,
+                        other_imus: Sequence[SimulatedImu] = ()
                         ) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
     """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
     true trajectory is a spline of smooth random control points (a rig swinging
@@ -68,7 +82,10 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     drawn after the first camera's, so a seed gives the same first camera with or
     without them. ``line_delay`` > 0 (s per row) gives the first camera a rolling
     shutter: row v is seen at its frame's time + ℓ·v (each corner's row found by
-    fixed-point iteration); truth ``line_delays`` per camera."""
+    fixed-point iteration); truth ``line_delays`` per camera. ``other_imus``
+    (:class:`SimulatedImu`) add IMUs that feel the body's rotation in their own axes and
+    the acceleration of their own position (lever arm: α × r + ω × (ω × r)), with the
+    same noise (``data.other_imus``; truth ``imu0_from_imus``), drawn last."""
     K = np.array([460.0, 460.0, 320.0, 240.0])
     imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
     target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
@@ -111,7 +128,7 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         ba += accel_random_walk * np.cumsum(steps[1], axis=0)
     gyro, accel = [], []
     for k, t in enumerate(imu_t):
-        p, q, v, a, w = state(t)
+        p, q, v, a, w, _ = state(t)
         R = SO3(q).R
         gyro.append(w + bg[k] + rng.normal(0, gyro_sigma, 3))
         accel.append(R.T @ (a - 9.81 * g_dir) + ba[k] + rng.normal(0, accel_sigma, 3))
@@ -163,5 +180,18 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
              "line_delays": [line_delay, *(c.line_delay for c in other_cameras)],
              "intrinsics": [K, *(K if c.intrinsics is None else np.asarray(c.intrinsics, float)
                                  for c in other_cameras)]}
-    data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel), others)
+    more_imus = []
+    for i, extra in enumerate(other_imus):
+        R_k, r = extra.imu0_from_imu.rot.R, extra.imu0_from_imu.pos
+        t_k = np.arange(extra.phase, duration, 1.0 / imu_rate)
+        g_k, a_k = [], []
+        for t in t_k:
+            p, q, v, a, w, alpha = state(t)
+            f = SO3(q).R.T @ (a - 9.81 * g_dir) + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
+            g_k.append(R_k.T @ w + np.asarray(extra.gyro_bias, float) + rng.normal(0, gyro_sigma, 3))
+            a_k.append(R_k.T @ f + np.asarray(extra.accel_bias, float) + rng.normal(0, accel_sigma, 3))
+        more_imus.append(ImuSamples(t_k, np.array(g_k), np.array(a_k), extra.name or f"imu{i + 1}"))
+    truth["imu0_from_imus"] = [SE3(), *(x.imu0_from_imu for x in other_imus)]
+    data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel), others,
+                         other_imus=more_imus)
     return data, truth, K

@@ -29,6 +29,16 @@ struct ImuSample {
                      omega);
   }
 
+  // The specific force in the body frame, Rᵀ (a − |g| ĝ), from the pose's quaternion q
+  // and the world acceleration a.
+  template <typename T>
+  static void SpecificForce(const T* q, const T* a, const T* gravity_dir, double g, T* f) {
+    T f_world[3], q_inv[4];
+    for (int i = 0; i < 3; ++i) f_world[i] = a[i] - T(g) * gravity_dir[i];
+    QuatConjugate(q, q_inv);
+    QuatRotatePoint(q_inv, f_world, f);
+  }
+
   // r = W (predicted + bias − z)
   template <typename T>
   void Residual(const T* predicted, const T* bias, T* r) const {
@@ -60,17 +70,76 @@ class AccelFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
                   const T* gravity_dir, T* r) const {
-    T q[4], a[3];
+    T q[4], a[3], f[3];
     s_.Evaluate(k0, k1, k2, k3, q, a, static_cast<T*>(nullptr));
-    T f_world[3], q_inv[4], f[3];
-    for (int i = 0; i < 3; ++i) f_world[i] = a[i] - T(g_) * gravity_dir[i];
-    QuatConjugate(q, q_inv);
-    QuatRotatePoint(q_inv, f_world, f);
+    ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
     s_.Residual(f, bias, r);
     return true;
   }
 
  private:
+  ImuSample s_;
+  double g_;
+};
+
+// Another IMU on the rig, at body_from_imu = [r, q_k] (the body IMU's frame):
+// it turns with the body and feels, besides the body's specific force, the
+// tangential and centripetal acceleration of its lever arm r.
+class OffsetGyroFunctor {
+ public:
+  explicit OffsetGyroFunctor(ImuSample s) : s_(std::move(s)) {}
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, T* r) const {
+    T omega[3], q_inv[4], omega_k[3];
+    s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
+    QuatConjugate(body_from_imu + 3, q_inv);
+    QuatRotatePoint(q_inv, omega, omega_k);
+    s_.Residual(omega_k, bias, r);
+    return true;
+  }
+
+ private:
+  ImuSample s_;
+};
+
+class OffsetAccelFunctor {
+ public:
+  OffsetAccelFunctor(ImuSample s, double g) : s_(std::move(s)), g_(g) {}
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, const T* gravity_dir, T* r) const {
+    const T* knots[4] = {k0, k1, k2, k3};
+    T q[4], a[3], omega[3], alpha[3];
+    spline::Evaluate(knots, T(s_.u), s_.dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr),
+                     a, omega, alpha);
+    T f[3];
+    ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
+    // + α × r + ω × (ω × r), body frame
+    const T* arm = body_from_imu;
+    T wxr[3], lever[3];
+    Cross(omega, arm, wxr);
+    Cross(omega, wxr, lever);
+    T axr[3];
+    Cross(alpha, arm, axr);
+    for (int i = 0; i < 3; ++i) f[i] += axr[i] + lever[i];
+    T qk_inv[4], f_k[3];
+    QuatConjugate(body_from_imu + 3, qk_inv);
+    QuatRotatePoint(qk_inv, f, f_k);
+    s_.Residual(f_k, bias, r);
+    return true;
+  }
+
+ private:
+  template <typename T>
+  static void Cross(const T* x, const T* y, T* out) {
+    out[0] = x[1] * y[2] - x[2] * y[1];
+    out[1] = x[2] * y[0] - x[0] * y[2];
+    out[2] = x[0] * y[1] - x[1] * y[0];
+  }
+
   ImuSample s_;
   double g_;
 };
@@ -158,6 +227,30 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
   return std::make_shared<
       ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
       new AccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude));
+}
+
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
+                                                                const Eigen::Vector3d& z,
+                                                                const NoiseModel& noise) {
+  CheckTime(u, dt, "spline gyro factor of another IMU");
+  BOXPLUS_CHECK(z.allFinite(), "spline gyro factor of another IMU: non-finite reading");
+  const Eigen::Matrix3d W = noise.Fixed<3>("spline gyro factor of another IMU");
+  return std::make_shared<
+      ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3>>(
+      new OffsetGyroFunctor(ImuSample{u, dt, z, W}));
+}
+
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(double u, double dt,
+                                                                 const Eigen::Vector3d& z,
+                                                                 const NoiseModel& noise,
+                                                                 double gravity_magnitude) {
+  CheckTime(u, dt, "spline accelerometer factor of another IMU");
+  BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0,
+                "spline accelerometer factor of another IMU: non-finite reading or |g| <= 0");
+  const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor of another IMU");
+  return std::make_shared<
+      ceres::AutoDiffCostFunction<OffsetAccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
+      new OffsetAccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude));
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(

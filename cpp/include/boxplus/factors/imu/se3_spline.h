@@ -14,7 +14,11 @@
 //     B̃ = (1/6)[6, 5 + 3u − 3u² + u³, 1 + 3u + 3u² − 2u³, u³]  (cumulative)
 //   velocity v = ṗ, acceleration a = p̈ (world frame; d/dt = (1/Δt) d/du),
 //   body angular velocity ω = Rᵀ Ṙ (as a vector), by the recursion
-//     ω₀ = 0,  ω_j = A_jᵀ ω_{j−1} + B̃'_j(u) d_j,  A_j = Exp(B̃_j d_j),  ω = ω₃ / Δt.
+//     ω₀ = 0,  ω_j = A_jᵀ ω_{j−1} + B̃'_j(u) d_j,  A_j = Exp(B̃_j d_j),  ω = ω₃ / Δt,
+//   body angular acceleration α = ω̇ (the same in body and world terms: R α is the
+//   world's), by differentiating that recursion (Ȧ_jᵀ x = (A_jᵀ x) × B̃'_j d_j):
+//     ω̇₀ = 0,  ω̇_j = A_jᵀ ω̇_{j−1} + B̃''_j(u) d_j + (A_jᵀ ω_{j−1}) × (B̃'_j d_j),
+//     α = ω̇₃ / Δt²  (what an IMU away from the body origin feels: α × r).
 //
 // u may lie slightly outside [0, 1) (a time offset that moved a sample across
 // a knot): the same polynomials extrapolate smoothly, which is what a
@@ -51,9 +55,9 @@ void Basis(const T& u, T b[4], T db[4], T ddb[4]) {
   ddb[3] = u;
 }
 
-// The cumulative basis B̃_j(u) and its derivative (B̃_0 = 1).
+// The cumulative basis B̃_j(u) and its first and second derivatives (B̃_0 = 1).
 template <typename T>
-void CumulativeBasis(const T& u, T b[4], T db[4]) {
+void CumulativeBasis(const T& u, T b[4], T db[4], T ddb[4]) {
   const T u2 = u * u;
   const T u3 = u2 * u;
   b[0] = T(1.0);
@@ -64,6 +68,10 @@ void CumulativeBasis(const T& u, T b[4], T db[4]) {
   db[1] = (T(3.0) - T(6.0) * u + T(3.0) * u2) / T(6.0);
   db[2] = (T(3.0) + T(6.0) * u - T(6.0) * u2) / T(6.0);
   db[3] = u2 / T(2.0);
+  ddb[0] = T(0.0);
+  ddb[1] = u - T(1.0);
+  ddb[2] = T(1.0) - T(2.0) * u;
+  ddb[3] = u;
 }
 
 // The trajectory at u of the segment whose control points are knots[0..3]
@@ -71,8 +79,10 @@ void CumulativeBasis(const T& u, T b[4], T db[4]) {
 //   p, q: world_from_imu (position, quaternion [x, y, z, w])
 //   v, a: velocity and acceleration in the world frame
 //   omega: angular velocity in the body (imu) frame
+//   alpha: angular acceleration in the body frame
 template <typename T>
-void Evaluate(const T* const* knots, const T& u, double dt, T* p, T* q, T* v, T* a, T* omega) {
+void Evaluate(const T* const* knots, const T& u, double dt, T* p, T* q, T* v, T* a, T* omega,
+              T* alpha = nullptr) {
   T b[4], db[4], ddb[4];
   if (p != nullptr || v != nullptr || a != nullptr) {
     Basis(u, b, db, ddb);
@@ -88,11 +98,12 @@ void Evaluate(const T* const* knots, const T& u, double dt, T* p, T* q, T* v, T*
       if (a != nullptr) a[k] = ak / T(dt * dt);
     }
   }
-  if (q == nullptr && omega == nullptr) return;
-  T cb[4], cdb[4];
-  CumulativeBasis(u, cb, cdb);
+  if (q == nullptr && omega == nullptr && alpha == nullptr) return;
+  T cb[4], cdb[4], cddb[4];
+  CumulativeBasis(u, cb, cdb, cddb);
   T rot[4] = {knots[0][3], knots[0][4], knots[0][5], knots[0][6]};
   T w[3] = {T(0.0), T(0.0), T(0.0)};
+  T dw[3] = {T(0.0), T(0.0), T(0.0)};
   for (int j = 1; j < kOrder; ++j) {
     T inv_prev[4], rel[4], d[3], scaled[3], A[4], A_inv[4], next[4], w_rot[3];
     QuatConjugate(knots[j - 1] + 3, inv_prev);
@@ -104,6 +115,15 @@ void Evaluate(const T* const* knots, const T& u, double dt, T* p, T* q, T* v, T*
     for (int k = 0; k < 4; ++k) rot[k] = next[k];
     QuatConjugate(A, A_inv);
     QuatRotatePoint(A_inv, w, w_rot);
+    if (alpha != nullptr) {
+      T dw_rot[3], rate[3], cross[3];
+      QuatRotatePoint(A_inv, dw, dw_rot);
+      for (int k = 0; k < 3; ++k) rate[k] = cdb[j] * d[k];
+      cross[0] = w_rot[1] * rate[2] - w_rot[2] * rate[1];
+      cross[1] = w_rot[2] * rate[0] - w_rot[0] * rate[2];
+      cross[2] = w_rot[0] * rate[1] - w_rot[1] * rate[0];
+      for (int k = 0; k < 3; ++k) dw[k] = dw_rot[k] + cddb[j] * d[k] + cross[k];
+    }
     for (int k = 0; k < 3; ++k) w[k] = w_rot[k] + cdb[j] * d[k];
   }
   if (q != nullptr) {
@@ -111,6 +131,9 @@ void Evaluate(const T* const* knots, const T& u, double dt, T* p, T* q, T* v, T*
   }
   if (omega != nullptr) {
     for (int k = 0; k < 3; ++k) omega[k] = w[k] / T(dt);
+  }
+  if (alpha != nullptr) {
+    for (int k = 0; k < 3; ++k) alpha[k] = dw[k] / T(dt * dt);
   }
 }
 

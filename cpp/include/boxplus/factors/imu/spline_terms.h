@@ -20,6 +20,14 @@
 //   readout of row 0): a rolling-shutter camera reads its rows one after the other
 //   while the rig moves (Oth et al., CVPR 2013; Kalibr's rolling-shutter camera).
 //   blocks: as above, then ℓ (R¹).
+// Another IMU on the rig (3 each), at body_from_imu = [r, q_k] (SE3: its
+// position r and orientation in the body IMU's frame, whose trajectory the
+// spline is); with ω, α the body's angular velocity and acceleration:
+//   gyroscope      r = W (R_kᵀ ω + b_g − z)
+//   accelerometer  r = W (R_kᵀ (R(t)ᵀ (a(t) − |g| ĝ) + α × r + ω × (ω × r)) + b_a − z)
+//   (the lever arm's tangential and centripetal acceleration: Furgale et al.'s
+//   multi-IMU extension in Kalibr, Rehder et al., ICRA 2016).
+//   blocks: 4 control points, body_from_imu (SE3 7), the bias (R³)[, ĝ (S² 3)].
 // Times enter as u = (t − t_i)/Δt of the segment t_i the caller chose: for the
 // gyroscope and accelerometer t is a sample's IMU time; for a reprojection,
 // `t_rel` = t_c − t_i and u = (t_rel + d)/Δt, so d moves u (extrapolating
@@ -47,6 +55,15 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
                                                            const Eigen::Vector3d& z,
                                                            const NoiseModel& noise,
                                                            double gravity_magnitude = 9.81);
+
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
+                                                                const Eigen::Vector3d& z,
+                                                                const NoiseModel& noise);
+
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(double u, double dt,
+                                                                 const Eigen::Vector3d& z,
+                                                                 const NoiseModel& noise,
+                                                                 double gravity_magnitude = 9.81);
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
     const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
