@@ -4,7 +4,8 @@ Furgale, Rehder & Siegwart, IROS 2013).
 
 The IMU's trajectory world_from_imu(t) is a cubic B-spline on R³ × SO(3) with
 control points every ``knot_spacing`` seconds (``factors/imu/se3_spline.h``;
-world = the target's frame). The terms (``factors/imu/spline_terms.h``): every
+world = the target's frame; by default 50 ms, halved while the IMU residuals exceed
+1.5× the noise: ``bench/bench_camera_imu.py``). The terms (``factors/imu/spline_terms.h``): every
 gyroscope sample (ω_imu(t) + b_g), every accelerometer sample (R(t)ᵀ(a(t) − g ĝ)
 + b_a, g = ``gravity_magnitude``, ĝ the direction of gravity in the target frame, an S² variable), and every
 target corner a camera saw at its timestamp t_c, reprojected from the pose at IMU
@@ -290,7 +291,7 @@ def _offset_and_rotation(t_cam: np.ndarray, w_cam: np.ndarray, t_imu: np.ndarray
 
 def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list[str] = "pinhole",
                          pixel_sigma: float = 0.5, gyro_sigma: float = 0.005,
-                         accel_sigma: float = 0.05, knot_spacing: float = 0.05,
+                         accel_sigma: float = 0.05, knot_spacing: float | None = None,
                          max_offset: float = 0.1, gravity_magnitude: float = 9.81,
                          estimate_intrinsics: bool = False, gyro_random_walk: float | None = None,
                          accel_random_walk: float | None = None,
@@ -301,6 +302,11 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                          ) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
+
+    ``knot_spacing`` (s): the trajectory spline's; None (the default) starts at 0.05 s
+    and halves it while the IMU residuals' RMS exceed 1.5× the noise (or the fit is
+    implausible), down to 2.5 IMU samples per knot: a hand-waved rig moves faster than
+    a coarse spline follows (module docstring).
 
     ``intrinsics`` in ``model``'s order (from ``boxplus-calib``); held fixed unless
     ``estimate_intrinsics``. With several cameras (``data.other_cameras``) give one
@@ -319,6 +325,42 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     ``bias_spacing`` seconds (module docstring); both or neither. Raises ValueError
     naming what is missing (too few frames with corners, IMU samples not covering the
     frames), and the camera when there are several."""
+    args = dict(locals())
+    if knot_spacing is not None:
+        cal = _fit(**args)
+    else:
+        t = np.asarray(data.imu_times, float)
+        span = float(t[-1] - t[0]) if len(t) > 1 else 0.0
+        floor = 2.5 * span / (len(t) - 1) if span > 0 else ADAPTIVE_START_SPACING
+        spacing = ADAPTIVE_START_SPACING
+        offsets: list[float] | None = None
+        while True:
+            finer = spacing / 2 >= floor
+            try:
+                cal = _fit(**{**args, "knot_spacing": spacing, "offsets_start": offsets})
+            except _ImplausibleFit as e:
+                if not (finer and e.imu_only):
+                    raise
+                spacing /= 2
+                continue
+            if not finer or _imu_misfit(cal, gyro_sigma, accel_sigma) <= ADAPTIVE_IMU_MISFIT:
+                break
+            spacing /= 2
+            offsets = cal.time_offsets
+    _warn_reprojection(cal, pixel_sigma)
+    _warn_excitation(cal)
+    return cal
+
+
+def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_sigma: float,
+         gyro_sigma: float, accel_sigma: float, knot_spacing: float, max_offset: float,
+         gravity_magnitude: float, estimate_intrinsics: bool, gyro_random_walk: float | None,
+         accel_random_walk: float | None, bias_spacing: float, common_clock: bool,
+         rolling_shutter: bool | list[bool], line_delay: float | list[float],
+         other_imu_sigmas: list[tuple[float, float]] | None, offsets_start: list[float] | None = None
+         ) -> CameraImuCalibration:
+    """One fit at one knot spacing (calibrate_camera_imu); ``offsets_start``: the cameras'
+    time offsets to start from instead of the angular-velocity alignment's."""
     if (gyro_random_walk is None) != (accel_random_walk is None):
         raise ValueError("calibrate_camera_imu: give both random walks (gyro_random_walk, "
                          "accel_random_walk) or neither")
@@ -370,6 +412,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                           for _, (uv, pts) in fr]
         mid, w_cam = _angular_velocities(t_cam, world_from_cam)
         d0, R_ic = _offset_and_rotation(mid, w_cam, t_imu, gyro, max_offset)
+        if offsets_start is not None:  # a previous fit's, more accurate
+            d0 = offsets_start[len(frames)]
         # the spline starts from the poses whose rotation agrees with the gyroscope's
         # between frames (a PnP from a few corners can be far off, and one bad start
         # made the whole solve diverge)
@@ -497,21 +541,12 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     moved = [f"{'camera ' + cam.name + ': ' if several else ''}time offset {d:.4g} s from a start "
              f"of {d0:.4g} s" for cam, d, d0 in zip(cameras, offsets, d0s) if abs(d - d0) > knot_spacing]
     if moved or bad:
-        raise ValueError(f"calibrate_camera_imu: the solve did not reach a plausible answer "
-                         f"({'; '.join(moved + bad)}): check the IMU and camera timestamps, the "
-                         f"noise σ and the intrinsics")
-    # plausible but worse than the noise: the σ are then too small, and a model that
-    # misses something (a rolling shutter fitted as a global one: 2.8× on simulated
-    # recordings, the offset 5–8 ms and imu_from_cam 15 mm off) should be named
-    for c, g in enumerate(groups):
-        if g in rms and rms[g] > 2 * pixel_sigma * np.sqrt(2):
-            hint = ("" if rolling[c] else "; a rolling-shutter camera fitted as a global shutter "
-                    "(rolling_shutter=True)")
-            warnings.warn(f"calibrate_camera_imu: {g} RMS {rms[g]:.3g} px is "
-                          f"{rms[g] / (pixel_sigma * np.sqrt(2)):.1f}× what pixel_sigma = "
-                          f"{pixel_sigma:g} px predicts, so every σ is too small: the corners are "
-                          f"noisier than that, or the model misses something (intrinsics of "
-                          f"another focus or resolution{hint})", UserWarning, stacklevel=2)
+        error = _ImplausibleFit(f"calibrate_camera_imu: the solve did not reach a plausible answer "
+                                f"({'; '.join(moved + bad)}): check the IMU and camera timestamps, "
+                                f"the noise σ and the intrinsics")
+        # only the IMU's residuals too large: a finer spline may follow the motion
+        error.imu_only = not moved and all(b.startswith(("gyroscope", "accelerometer")) for b in bad)
+        raise error
     gyro_biases = np.array([o[ids[f"gyro_bias[{s}]"]].vec for s in range(n_seg)])
     accel_biases = np.array([o[ids[f"accel_bias[{s}]"]].vec for s in range(n_seg)])
     imu_from_cams = [o[ids[f"imu_from_cam[{c}]"]] for c in range(n_cam)]
@@ -527,6 +562,75 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
         [SE3(), *(o[ids[f"imu0_from_imu[{k}]"]] for k in range(1, len(imus) + 1))],
         [gyro_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.gyro_bias") for k in range(1, len(imus) + 1))],
         [accel_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.accel_bias") for k in range(1, len(imus) + 1))])
+
+
+# The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on
+# bench/bench_camera_imu.py's motions of 1–3 Hz: from 0.05 s, halved while the IMU
+# residuals exceed 1.5× the noise (at 3 Hz, 0.05 s left them 7.5× and refused one fit
+# in four, 0.01 s brought them to 1.0×; at 1 Hz, 0.05 s gave 0.98× and 0.01 s 0.73×,
+# a spline fitting the noise itself).
+ADAPTIVE_START_SPACING = 0.05
+ADAPTIVE_IMU_MISFIT = 1.5
+
+
+class _ImplausibleFit(ValueError):
+    """A fit whose residuals or offsets are implausible; ``imu_only`` when only the IMU's
+    residuals were (a finer spline may follow the motion)."""
+
+    imu_only = False
+
+
+def _warn_reprojection(cal: CameraImuCalibration, pixel_sigma: float) -> None:
+    """A camera's reprojection RMS above twice what pixel_sigma predicts: plausible but
+    worse than the noise, so every σ is too small, and a model that misses something
+    (a rolling shutter fitted as a global one: 2.8× on simulated recordings, the offset
+    5–8 ms and imu_from_cam 15 mm off) should be named."""
+    rms = cal.problem.rms()
+    groups = [g for g in rms if g.startswith("reprojection")]
+    for g, ell in zip(groups, cal.line_delays):
+        if rms[g] > 2 * pixel_sigma * np.sqrt(2):
+            hint = ("" if ell is not None else "; a rolling-shutter camera fitted as a global shutter "
+                    "(rolling_shutter=True)")
+            warnings.warn(f"calibrate_camera_imu: {g} RMS {rms[g]:.3g} px is "
+                          f"{rms[g] / (pixel_sigma * np.sqrt(2)):.1f}× what pixel_sigma = "
+                          f"{pixel_sigma:g} px predicts, so every σ is too small: the corners are "
+                          f"noisier than that, or the model misses something (intrinsics of "
+                          f"another focus or resolution{hint})", UserWarning, stacklevel=3)
+
+
+# An unexcited direction: the worst-known direction of a camera's translation has a σ
+# this many times the best-known one's, and above EXCITATION_MIN_SIGMA. On simulated
+# recordings the ratio was 1.5–2.2 with rotation about every axis, 2.6–3.1 with a
+# tenth of it about one axis, 10–17 (σ 4–6 mm) with a tenth about two, 20–50 (σ 14–25
+# mm, the errors as large) with a fiftieth about two.
+EXCITATION_RATIO = 5.0
+EXCITATION_MIN_SIGMA = 1e-3  # m
+
+
+def _warn_excitation(cal: CameraImuCalibration) -> None:
+    """Names a translation direction of imu_from_cam the motion did not excite: it is
+    seen through the rotation about the other axes (the lever arm R(t)·r), so a rig that
+    hardly turned about an axis leaves the translation along it undetermined."""
+    for c, (name, pose) in enumerate(zip(cal.camera_names, cal.imu_from_cams)):
+        C = cal.problem.covariance(cal.ids[f"imu_from_cam[{c}]"])[:3, :3]
+        ev, V = np.linalg.eigh(0.5 * (C + C.T))
+        worst, best = np.sqrt(max(ev[-1], 0.0)), np.sqrt(max(ev[0], 0.0))
+        if worst > EXCITATION_MIN_SIGMA and worst > EXCITATION_RATIO * best:
+            axis = pose.rot.R.T @ V[:, -1]  # in the camera's frame
+            axis = np.round(axis * np.sign(axis[np.argmax(np.abs(axis))]), 2) + 0.0  # no "-0.00"
+            warnings.warn(f"calibrate_camera_imu: camera {name}: imu_from_cam's translation along "
+                          f"({axis[0]:+.2f}, {axis[1]:+.2f}, {axis[2]:+.2f}) in the camera's frame is "
+                          f"known to ±{worst * 1e3:.3g} mm, the best-known direction to ±{best * 1e3:.2g} mm: "
+                          f"the recording hardly rotated about that axis (a translation is seen "
+                          f"through the rotations about the others); record again turning the rig "
+                          f"about every axis", UserWarning, stacklevel=3)
+
+
+def _imu_misfit(cal: CameraImuCalibration, gyro_sigma: float, accel_sigma: float) -> float:
+    """The first IMU's residual RMS over its noise, the larger of gyroscope and
+    accelerometer (1: the spline follows the motion as closely as the noise allows)."""
+    rms = cal.problem.rms()
+    return max(rms["gyroscope"] / (gyro_sigma * np.sqrt(3)), rms["accelerometer"] / (accel_sigma * np.sqrt(3)))
 
 
 def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImuData, knots: list[int],

@@ -79,8 +79,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--constant-biases", action="store_true",
                     help="hold the biases constant over the recording (ignore the random walks)")
     ap.add_argument("--pixel-sigma", type=float, default=0.5, help="corner σ in px (default 0.5)")
-    ap.add_argument("--knot-spacing", type=float, default=0.05,
-                    help="the trajectory spline's knot spacing in s (default 0.05)")
+    ap.add_argument("--knot-spacing", type=float, default=None,
+                    help="the trajectory spline's knot spacing in s (default: from 0.05, halved "
+                         "while the IMU residuals exceed 1.5x their noise)")
     ap.add_argument("--max-offset", type=float, default=0.1,
                     help="the largest time offset searched, in s (default 0.1)")
     ap.add_argument("--cam", nargs="+", default=["cam0"], metavar="FOLDER",
@@ -225,6 +226,7 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
                     for c, f in zip(cameras, data.cameras)),
         f"noise: gyroscope σ {gyro_sigma:.4g} rad/s, accelerometer σ {accel_sigma:.4g} m/s² per "
         f"sample",
+        f"trajectory: a spline with knots every {cal.knot_spacing * 1e3:.4g} ms ({cal.n_knots} knots)",
         f"solve: {cal.summary.termination}; RMS per group "
         + ", ".join(f"{g} {r:.4g}" for g, r in cal.problem.rms().items())]
     for c, cam in enumerate(cameras):

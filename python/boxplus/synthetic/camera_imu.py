@@ -9,7 +9,7 @@ Images of these recordings are rendered by :mod:`boxplus.synthetic.images`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -61,7 +61,8 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                         knot_spacing: float = 0.05, gyro_random_walk: float = 0.0,
                         accel_random_walk: float = 0.0,
                         other_cameras: Sequence[SimulatedCamera] = (), line_delay: float = 0.0,
-                        other_imus: Sequence[SimulatedImu] = ()
+                        other_imus: Sequence[SimulatedImu] = (), motion: str = "spline",
+                        bandwidth: float = 2.0, rotation_scale: Any = (1.0, 1.0, 1.0)
                         ) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
     """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
     true trajectory is a spline of smooth random control points (a rig swinging
@@ -85,7 +86,16 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     fixed-point iteration); truth ``line_delays`` per camera. ``other_imus``
     (:class:`SimulatedImu`) add IMUs that feel the body's rotation in their own axes and
     the acceleration of their own position (lever arm: α × r + ω × (ω × r)), with the
-    same noise (``data.other_imus``; truth ``imu0_from_imus``), drawn last."""
+    same noise (``data.other_imus``; truth ``imu0_from_imus``), drawn last.
+
+    ``motion="sines"``: the IMU's true motion is no spline at all but a sum of four
+    sinusoids per axis with random frequencies up to ``bandwidth`` Hz (the same ±0.3 m
+    and ±25° swing), its velocity and acceleration exact, its angular velocity and
+    acceleration central differences of the rotation (errors ≪ the noise): what a
+    hand-held rig does, so a fit with any knot spacing has a modelling error to show.
+    ``rotation_scale`` scales the swing's rotation about each of the camera's axes
+    (``(1, 1, 0)``: no rotation about the optical axis), for recordings that leave a
+    direction unexcited."""
     K = np.array([460.0, 460.0, 320.0, 240.0])
     imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
     target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
@@ -105,16 +115,23 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
 
     # the camera looks at the target from z = −0.8 (target frame), the IMU follows it
     base_cam = SE3(SO3(), np.array([0.0, 0.0, -0.8]))
-    pos, rot = swing(0.3, 3), swing(np.radians(25), 3)
+    scale = np.asarray(rotation_scale, float)
+    pos, rot = swing(0.3, 3), swing(np.radians(25), 3) * scale
     knots = []
     for j in range(n):
         world_from_cam = SE3(base_cam.rot * SO3.exp(rot[j]), base_cam.pos + pos[j])
         knots.append((world_from_cam * imu_from_cam.inverse()).ambient)
     knots_a = np.array(knots)
 
-    def state(t: float) -> tuple:
+    def on_spline(t: float) -> tuple:
         i, u = spline_segment(t, t0, dt, n)
         return _core.spline_evaluate(knots_a[i:i + 4], u, dt)
+
+    state: Callable[[float], tuple] = on_spline
+    if motion == "sines":
+        state = _sines(rng, duration, bandwidth, base_cam, imu_from_cam, scale)
+    elif motion != "spline":
+        raise ValueError(f"simulate_camera_imu: motion must be 'spline' or 'sines', got {motion!r}")
 
     imu_t = np.arange(0.0, duration, 1.0 / imu_rate)
     # biases: the given values, drifting as Wiener processes of the given densities (drawn
@@ -195,3 +212,44 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel), others,
                          other_imus=more_imus)
     return data, truth, K
+
+
+def _sines(rng: np.random.Generator, duration: float, bandwidth: float, base_cam: SE3,
+           imu_from_cam: SE3, rotation_scale: np.ndarray) -> Callable[[float], tuple]:
+    """state(t) = (p, q, v, a, ω, α) of world_from_imu(t) = (base.rot · Exp(θ(t)),
+    base.pos + x(t)), base = base_cam · cam_from_imu, x and θ sums of four sinusoids per
+    axis (frequencies uniform in [0.1, bandwidth] Hz, scaled to ±0.3 m and ±25° over
+    the recording; θ about the camera's axes, times ``rotation_scale``)."""
+    base = base_cam * imu_from_cam.inverse()
+    R_ic = imu_from_cam.rot
+    if not (np.isfinite(bandwidth) and bandwidth > 0.1):
+        raise ValueError(f"simulate_camera_imu: bandwidth must exceed 0.1 Hz, got {bandwidth}")
+    grid = np.linspace(0.0, duration, 2001)
+
+    def draw(scale: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        w = 2 * np.pi * rng.uniform(0.1, bandwidth, (4, 3))
+        amp = rng.normal(0, 1, (4, 3)) / w  # rougher at low frequencies, as a hand moves
+        phase = rng.uniform(0, 2 * np.pi, (4, 3))
+        peak = np.abs(np.sum(amp[None] * np.sin(w[None] * grid[:, None, None] + phase[None]), axis=1)).max(axis=0)
+        return w, amp * scale / peak, phase
+
+    pos, rot = draw(0.3), draw(np.radians(25))
+    rot = (rot[0], rot[1] * rotation_scale, rot[2])
+
+    def value(c: tuple, t: float, order: int) -> np.ndarray:
+        w, amp, phase = c
+        return np.sum(amp * w ** order * np.sin(w * t + phase + order * np.pi / 2), axis=0)
+
+    def rotation(t: float) -> SO3:
+        # θ about the camera's axes, carried into the IMU's
+        return base.rot * SO3.exp(R_ic.R @ value(rot, t, 0))
+
+    def omega(t: float, h: float = 1e-4) -> np.ndarray:
+        return (rotation(t - h).inverse() * rotation(t + h)).log() / (2 * h)
+
+    def state(t: float) -> tuple:
+        h = 1e-3
+        return (base.pos + value(pos, t, 0), rotation(t).ambient, value(pos, t, 1), value(pos, t, 2),
+                omega(t), (omega(t + h) - omega(t - h)) / (2 * h))
+
+    return state
