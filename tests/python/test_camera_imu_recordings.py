@@ -362,6 +362,71 @@ def write_bag(kind, path, folder, encoding="mono8", zero_imu_stamps=False, shuff
     return rec
 
 
+def write_rig_bag(path, folder):
+    """The whole rig of the EuRoC folder (cam0, cam1, imu0, imu1) as a ROS 1 bag."""
+    writer, ts, ser = _bag_writer("ros1", path)
+    Imu, V3 = ts.types["sensor_msgs/msg/Imu"], ts.types["geometry_msgs/msg/Vector3"]
+    Q = ts.types["geometry_msgs/msg/Quaternion"]
+    zero = np.zeros(9)
+    events = []
+    for imu in ("imu0", "imu1"):
+        rec = read_euroc(folder, "cam0", imu)
+        stamps = rec.origin_ns + np.round(rec.imu_times * 1e9).astype(np.int64)
+        events += [(int(t), imu, (rec.gyro[i], rec.accel[i])) for i, t in enumerate(stamps)]
+    for cam in ("cam0", "cam1"):
+        rec = read_euroc(folder, cam)
+        stamps = rec.origin_ns + np.round(rec.frame_times * 1e9).astype(np.int64)
+        events += [(int(t), cam, rec.images[i]) for i, t in enumerate(stamps)]
+    with writer as w:
+        conns = {c: w.add_connection(f"/{c}/image_raw", "sensor_msgs/msg/Image", typestore=ts)
+                 for c in ("cam0", "cam1")}
+        conns.update({i: w.add_connection(f"/{i}", "sensor_msgs/msg/Imu", typestore=ts)
+                      for i in ("imu0", "imu1")})
+        for stamp, what, payload in sorted(events, key=lambda e: e[0]):
+            if what.startswith("imu"):
+                g, a = payload
+                m = Imu(header=_header(ts, "ros1", stamp), orientation=Q(x=0.0, y=0.0, z=0.0, w=1.0),
+                        orientation_covariance=zero, angular_velocity=V3(x=g[0], y=g[1], z=g[2]),
+                        angular_velocity_covariance=zero,
+                        linear_acceleration=V3(x=a[0], y=a[1], z=a[2]),
+                        linear_acceleration_covariance=zero)
+                w.write(conns[what], stamp + 1000, ser(m, "sensor_msgs/msg/Imu"))
+            else:
+                gray = cv2.imread(str(payload), cv2.IMREAD_GRAYSCALE)
+                w.write(conns[what], stamp + 2000,
+                        ser(_image_message(ts, "ros1", stamp, gray, "mono8"), "sensor_msgs/msg/Image"))
+
+
+def test_the_command_line_calibrates_a_whole_rig_from_a_bag(recording, tmp_path):
+    # two camera topics and two IMU topics of one bag, as a stereo pair and two IMUs:
+    # Kalibr's files name the topics, and both cameras and the second IMU are the truth
+    pytest.importorskip("rosbags")
+    from boxplus.calib.camera_imu_cli import main
+
+    folder, *_ = recording
+    bag = tmp_path / "rig.bag"
+    write_rig_bag(bag, folder)
+    out = tmp_path / "out"
+    assert main([str(bag), "--image-topic", "/cam0/image_raw", "/cam1/image_raw", "--imu-topic",
+                 "/imu0", "/imu1", "--intrinsics", str(folder / "stereo-camchain.yaml"), "--target",
+                 str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--pixel-sigma", "0.3",
+                 "--common-clock", "--out", str(out), "--quiet", "--no-plots"]) == 0
+    doc = yaml.safe_load((out / "camchain-imucam.yaml").read_text())
+    own = yaml.safe_load((out / "camera_imu.yaml").read_text())
+    assert [doc[c]["rostopic"] for c in ("cam0", "cam1")] == ["/cam0/image_raw", "/cam1/image_raw"]
+    for c, (key, truth) in enumerate((("cam0", IMU_FROM_CAM), ("cam1", IMU_FROM_CAM1))):
+        T = np.array(doc[key]["T_cam_imu"])
+        ic = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
+        err = np.r_[ic.pos - truth.pos, (truth.rot.inverse() * ic.rot).log()]
+        assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu_from_cam" + (f"[{c}]" if c else "")])), key
+    imus = yaml.safe_load((out / "imu-imucam.yaml").read_text())
+    assert [imus[i]["rostopic"] for i in ("imu0", "imu1")] == ["/imu0", "/imu1"]
+    T = np.array(imus["imu1"]["T_i_b"])
+    est = SE3(SO3(T[:3, :3].T), -T[:3, :3].T @ T[:3, 3])
+    err = np.r_[est.pos - IMU0_FROM_IMU1.pos, (IMU0_FROM_IMU1.rot.inverse() * est.rot).log()]
+    assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu0_from_imu[1]"]))
+
+
 @pytest.mark.parametrize("kind,encoding", [("ros1", "mono8"), ("sqlite", "rgb8"),
                                            ("mcap", "png"), ("ros1", "mono16")])
 def test_bags_read_as_the_euroc_folder(recording, tmp_path, kind, encoding):
