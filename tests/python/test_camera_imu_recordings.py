@@ -232,6 +232,11 @@ def test_the_command_line_places_a_second_imu(recording, tmp_path, capsys):
     assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu0_from_imu[1]"]))
     assert np.linalg.norm(err[:3]) < 5e-3
     assert doc["imu1"]["update_rate"] == pytest.approx(200.0) and doc["imu1"]["time_offset"] == 0.0
+    # the noise the fit assumed, as densities: imu.yaml's own values (its rate is the data's)
+    given = yaml.safe_load((folder / "imu.yaml").read_text())
+    for key in ("gyroscope_noise_density", "accelerometer_noise_density", "gyroscope_random_walk",
+                "accelerometer_random_walk"):
+        assert doc["imu1"][key] == pytest.approx(given[key], rel=1e-9), key
     assert "imu0_from_imu1 (its lever arm" in (out / "report.txt").read_text()
     # one --imu file per IMU or one for all: three for two is refused
     base = [str(folder), "--imu-folder", "imu0", "imu1", "--target", str(folder / "target.yaml"),

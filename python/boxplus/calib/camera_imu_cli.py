@@ -271,18 +271,25 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
 _OUTPUTS = ("camchain-imucam.yaml", "camera_imu.yaml", "report.txt", "camera_imu.png", "imu-imucam.yaml")
 
 
-def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool) -> dict[str, Any]:
+def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[float, float]],
+                 walks: tuple[float | None, float | None]) -> dict[str, Any]:
     """Kalibr's imu result YAML for a rig of several IMUs: per IMU ``T_i_b`` (the body
-    (first IMU) into this IMU's frame, 4 × 4), ``time_offset`` (0: one clock),
-    ``update_rate`` (from the samples' median spacing) and ``rostopic``."""
+    (first IMU) into this IMU's frame, 4 × 4), the noise densities the fit assumed
+    (σ per sample / √rate, Kalibr's discretisation undone) and the random walks,
+    ``time_offset`` (0: one clock), ``update_rate`` (from the samples' median spacing)
+    and ``rostopic``."""
     topics = (args.imu_topic or [None]) if bag else [None] * len(cal.imu_names)
-    rates = [np.asarray(data.imu_times), *(np.asarray(i.imu_times) for i in data.other_imus)]
+    times = [np.asarray(data.imu_times), *(np.asarray(i.imu_times) for i in data.other_imus)]
     doc = {}
     for k, (name, pose) in enumerate(zip(cal.imu_names, cal.imu0_from_imus)):
-        doc[f"imu{k}"] = {"T_i_b": [[float(v) for v in row] for row in pose.inverse().matrix()],
-                          "time_offset": 0.0,
-                          "update_rate": float(1.0 / np.median(np.diff(rates[k]))),
-                          "rostopic": topics[k] or f"/{name}"}
+        rate = float(1.0 / np.median(np.diff(times[k])))
+        entry: dict[str, Any] = {"T_i_b": [[float(v) for v in row] for row in pose.inverse().matrix()],
+                                 "accelerometer_noise_density": float(sigmas[k][1] / np.sqrt(rate)),
+                                 "gyroscope_noise_density": float(sigmas[k][0] / np.sqrt(rate))}
+        if walks[0] is not None and walks[1] is not None:
+            entry.update(accelerometer_random_walk=float(walks[1]), gyroscope_random_walk=float(walks[0]))
+        entry.update(time_offset=0.0, update_rate=rate, rostopic=topics[k] or f"/{name}")
+        doc[f"imu{k}"] = entry
     return doc
 
 
@@ -377,7 +384,8 @@ def main(argv: list[str] | None = None) -> int:
     write_atomically(out / "report.txt", report + "\n")
     written += ["camera_imu.yaml", "report.txt"]
     if len(cal.imu_names) > 1:
-        io.write_yaml(out / "imu-imucam.yaml", _kalibr_imus(cal, data, args, bag))
+        io.write_yaml(out / "imu-imucam.yaml", _kalibr_imus(cal, data, args, bag, imu_sigmas,
+                                                            (gyro_walk, accel_walk)))
         written.append("imu-imucam.yaml")
     if not args.no_plots:
         from boxplus.calib.plot import plot_camera_imu
