@@ -458,18 +458,7 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
     n_seg = 1 if walks is None else max(1, int(np.ceil((t_in[-1] - t_in[0]) / bias_spacing)))
     bias_times = np.linspace(t_in[0], t_in[-1], n_seg + 1)
     segment = np.clip(np.searchsorted(bias_times, t_in, side="right") - 1, 0, n_seg - 1)
-    for kind in ("gyro_bias", "accel_bias"):
-        for s in range(n_seg):
-            name = kind if s == 0 else f"{kind}[{s}]"
-            ids[name] = o.add_random_var(Rn(np.zeros(3)), name=name, labels=["x", "y", "z"])
-        ids[f"{kind}[0]"] = ids[kind]
-    if walks is not None and n_seg > 1:
-        for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
-            sigma = q * np.sqrt(bias_times[1] - bias_times[0])
-            # one vectorised measurement group: a Python call per evaluation, not per pair
-            pairs = np.array([[ids[f"{kind}[{s}]"], ids[f"{kind}[{s + 1}]"]] for s in range(n_seg - 1)])
-            o.add_measurements(np.zeros((n_seg - 1, 3)), bias_walk, pairs, sigma=sigma,
-                               name=f"{kind} walk")
+    _add_biases(o, ids, "", "", bias_times, walks)
     # gravity: the mean specific force in the world is −|g| ĝ when the motion averages out
     f_world = [nearest(t).rot.R @ a for t, a in zip(t_imu, accel)]
     g_dir = -np.mean(f_world, axis=0)
@@ -560,8 +549,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
         [float(o[ids[f"line_delay[{c}]"]].vec[0]) if rolling[c] else None for c in range(n_cam)],
         ["imu0", *(name for name, _, _ in imus)],
         [SE3(), *(o[ids[f"imu0_from_imu[{k}]"]] for k in range(1, len(imus) + 1))],
-        [gyro_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.gyro_bias") for k in range(1, len(imus) + 1))],
-        [accel_biases.mean(axis=0), *(_bias_mean(o, ids, f"imu{k}.accel_bias") for k in range(1, len(imus) + 1))])
+        [_bias_means(o, ids, f"imu{k}." if k else "", "gyro_bias", n_seg) for k in range(len(imus) + 1)],
+        [_bias_means(o, ids, f"imu{k}." if k else "", "accel_bias", n_seg) for k in range(len(imus) + 1)])
 
 
 # The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on
@@ -666,17 +655,9 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
             raise ValueError(f"calibrate_camera_imu: IMU {name}: {inside.sum()} samples inside the "
                              f"spline's time span; need at least 10 (its clock must be the first IMU's)")
         segment = np.clip(np.searchsorted(bias_times, t[inside], side="right") - 1, 0, n_seg - 1)
+        _add_biases(o, ids, f"imu{k}.", name, bias_times, walks)
         for kind in ("gyro_bias", "accel_bias"):
-            for seg in range(n_seg):
-                ids[f"imu{k}.{kind}[{seg}]"] = o.add_random_var(Rn(np.zeros(3)), name=f"{name}.{kind}[{seg}]",
-                                                                labels=["x", "y", "z"])
-            ids[f"imu_{kind}[{k}]"] = ids[f"imu{k}.{kind}"] = ids[f"imu{k}.{kind}[0]"]
-        if walks is not None and n_seg > 1:
-            for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
-                pairs = np.array([[ids[f"imu{k}.{kind}[{s}]"], ids[f"imu{k}.{kind}[{s + 1}]"]]
-                                  for s in range(n_seg - 1)])
-                o.add_measurements(np.zeros((n_seg - 1, 3)), bias_walk, pairs,
-                                   sigma=q * np.sqrt(bias_times[1] - bias_times[0]), name=f"{name} {kind} walk")
+            ids[f"imu_{kind}[{k}]"] = ids[f"imu{k}.{kind}"]
         gn, an = NoiseModel.isotropic(3, gs), NoiseModel.isotropic(3, acs)
         pose = ids[f"imu0_from_imu[{k}]"]
         for ti, w, f, seg in zip(t[inside], g[inside], a[inside], segment):
@@ -691,10 +672,29 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
     return out
 
 
-def _bias_mean(o: OptimizationProblem, ids: dict[str, int], prefix: str) -> np.ndarray:
-    """The mean of a bias' segments ("<prefix>[s]")."""
-    segs = [ids[n] for n in ids if n.startswith(prefix + "[")]
-    return np.mean([o[v].vec for v in segs], axis=0)
+def _add_biases(o: OptimizationProblem, ids: dict[str, int], key: str, imu: str,
+                bias_times: np.ndarray, walks: tuple[float, float] | None) -> None:
+    """An IMU's gyroscope and accelerometer biases, one per segment of ``bias_times``
+    (ids "<key>gyro_bias[s]", "<key>gyro_bias" the first; variables named after ``imu``
+    unless it is the first IMU, ""), consecutive segments tied by the random walks."""
+    n_seg = len(bias_times) - 1
+    for kind in ("gyro_bias", "accel_bias"):
+        for s in range(n_seg):
+            name = (f"{imu}." if imu else "") + (kind if s == 0 else f"{kind}[{s}]")
+            ids[f"{key}{kind}[{s}]"] = o.add_random_var(Rn(np.zeros(3)), name=name, labels=["x", "y", "z"])
+        ids[f"{key}{kind}"] = ids[f"{key}{kind}[0]"]
+    if walks is not None and n_seg > 1:
+        for kind, q in (("gyro_bias", walks[0]), ("accel_bias", walks[1])):
+            # one vectorised measurement group: a Python call per evaluation, not per pair
+            pairs = np.array([[ids[f"{key}{kind}[{s}]"], ids[f"{key}{kind}[{s + 1}]"]] for s in range(n_seg - 1)])
+            o.add_measurements(np.zeros((n_seg - 1, 3)), bias_walk, pairs,
+                               sigma=q * np.sqrt(bias_times[1] - bias_times[0]),
+                               name=(f"{imu} " if imu else "") + f"{kind} walk")
+
+
+def _bias_means(o: OptimizationProblem, ids: dict[str, int], key: str, kind: str, n_seg: int) -> np.ndarray:
+    """The mean of an IMU's bias over its segments."""
+    return np.mean([o[ids[f"{key}{kind}[{s}]"]].vec for s in range(n_seg)], axis=0)
 
 
 def bias_walk(b0: Any, b1: Any) -> np.ndarray:

@@ -286,6 +286,20 @@ def _flow(v: Sequence[float]) -> str:
     return "[" + ", ".join(_num(x) for x in v) + "]"
 
 
+def _rows(M: np.ndarray) -> list[list[float]]:
+    """A matrix as YAML rows of plain floats."""
+    return [[float(v) for v in row] for row in M]
+
+
+def _camchain_entry(c: CalibratedCamera, topic: str | None) -> dict[str, Any]:
+    """A camera's lens fields in a Kalibr camchain (camchain and camchain-imucam alike)."""
+    cm, intr, dm, dc = _kalibr_entry(c)
+    return {"camera_model": cm, "intrinsics": [float(v) for v in intr], "distortion_model": dm,
+            "distortion_coeffs": [float(v) for v in dc],
+            "resolution": [int(c.image_size[0]), int(c.image_size[1])],
+            "rostopic": topic or f"/{c.name}/image_raw"}
+
+
 def write_camchain(path: str | Path, cameras: Sequence[CalibratedCamera],
                    topics: Sequence[str] | None = None,
                    overlaps: Sequence[Sequence[int]] | None = None) -> None:
@@ -293,15 +307,10 @@ def write_camchain(path: str | Path, cameras: Sequence[CalibratedCamera],
     lists the cameras that saw the target together with camera i (``cam_overlaps``)."""
     doc: dict[str, Any] = {}
     for i, c in enumerate(cameras):
-        cm, intr, dm, dc = _kalibr_entry(c)
         entry: dict[str, Any] = {}
         if i > 0:
-            T = (c.cam_from_ref * cameras[i - 1].cam_from_ref.inverse()).matrix()
-            entry["T_cn_cnm1"] = [[float(v) for v in row] for row in T]
-        entry.update(camera_model=cm, intrinsics=[float(v) for v in intr], distortion_model=dm,
-                     distortion_coeffs=[float(v) for v in dc],
-                     resolution=[int(c.image_size[0]), int(c.image_size[1])],
-                     rostopic=topics[i] if topics else f"/{c.name}/image_raw")
+            entry["T_cn_cnm1"] = _rows((c.cam_from_ref * cameras[i - 1].cam_from_ref.inverse()).matrix())
+        entry.update(_camchain_entry(c, topics[i] if topics else None))
         if overlaps is not None:
             entry["cam_overlaps"] = [int(j) for j in overlaps[i]]
         doc[f"cam{i}"] = entry
@@ -325,14 +334,10 @@ def write_camchain_imucam(path: str | Path, camera: CalibratedCamera | Sequence[
                          f"{len(shifts)} time shifts and {len(topics)} topics: give one of each per camera")
     doc: dict[str, Any] = {}
     for i, (c, T, d, tp) in enumerate(zip(cams, poses, shifts, topics)):
-        cm, intr, dm, dc = _kalibr_entry(c)
-        entry: dict[str, Any] = {"T_cam_imu": [[float(v) for v in row] for row in T.matrix()]}
+        entry: dict[str, Any] = {"T_cam_imu": _rows(T.matrix())}
         if i > 0:
-            entry["T_cn_cnm1"] = [[float(v) for v in row] for row in (T * poses[i - 1].inverse()).matrix()]
-        entry.update(camera_model=cm, intrinsics=[float(v) for v in intr], distortion_model=dm,
-                     distortion_coeffs=[float(v) for v in dc],
-                     resolution=[int(c.image_size[0]), int(c.image_size[1])],
-                     rostopic=tp or f"/{c.name}/image_raw", timeshift_cam_imu=d)
+            entry["T_cn_cnm1"] = _rows((T * poses[i - 1].inverse()).matrix())
+        entry.update(_camchain_entry(c, tp), timeshift_cam_imu=d)
         doc[f"cam{i}"] = entry
     write_yaml(path, doc)
 
