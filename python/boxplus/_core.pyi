@@ -6,7 +6,7 @@ import collections.abc
 import numpy
 import numpy.typing
 import typing
-__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'g2o_record_tags', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_offset_accel_factor', 'spline_offset_gyro_factor', 'spline_reprojection_factor']
+__all__: list[str] = ['BoxplusError', 'BoxplusIndexError', 'CertifyResult', 'Determinedness', 'EdgeVerdict', 'Factor', 'IterationInfo', 'LoadReport', 'Loss', 'Manifold', 'NoiseModel', 'OutlierReport', 'ParseError', 'PoseGraph', 'Problem', 'ReadReport', 'ResidualCache', 'Rn', 'S2', 'SE2', 'SE3', 'SO2', 'SO3', 'SolveSummary', 'SolverOptions', 'UndeterminedVariable', 'board_factor', 'cached_factor', 'camera_model_names', 'camera_model_size', 'coordinate_prior_factor', 'dh_marker_factor', 'disparity_factor', 'exact_value', 'format_progress', 'format_summary', 'g2o_record_tags', 'gravity_factor', 'gravity_model_size', 'joint_factor', 'landmark_2d_factor', 'loss_names', 'make_manifold', 'make_product_manifold', 'make_python_manifold', 'marker_factor', 'point_factor', 'point_projection_factor', 'pose_graph_implausible_chi2_per_dof', 'pose_graph_solver_defaults', 'prior_factor', 'progress_header', 'relative_pose_factor', 'solver_option_names', 'spline_accel_factor', 'spline_evaluate', 'spline_gyro_factor', 'spline_offset_accel_factor', 'spline_offset_gyro_factor', 'spline_reprojection_factor']
 class BoxplusError(ValueError):
     """
     Bad input refused by boxplus.
@@ -1662,6 +1662,10 @@ def camera_model_names() -> list[str]:
 def camera_model_size(model: str) -> int:
     """
     Number of intrinsic parameters of a camera model.
+    """
+def coordinate_prior_factor(problem: Problem, id: typing.SupportsInt | typing.SupportsIndex, indices: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], noise: NoiseModel, what: str = 'prior') -> Factor:
+    """
+    r = W (x[indices] − z) on some coordinates of the Rn variable id; the others are left to the data; see factors/pose/prior.h.
     """
 def dh_marker_factor(model: str, intrinsics: typing.SupportsInt | typing.SupportsIndex, base_from_rig: typing.SupportsInt | typing.SupportsIndex, p_in_hand: typing.SupportsInt | typing.SupportsIndex, cam_from_rig: typing.SupportsInt | typing.SupportsIndex, dh: typing.SupportsInt | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, joints: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[m, 1]"], base_from_chain: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"], flange_from_hand: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[7, 1]"]) -> Factor:
     """

@@ -40,7 +40,7 @@ import numpy as np
 from boxplus import _core, _journal, batch, solver
 from boxplus._journal import journalled
 from boxplus.losses import LossSpec, make_loss
-from boxplus.manifolds import SE2, SE3, Codec, codec_of
+from boxplus.manifolds import SE2, SE3, Codec, Rn, codec_of
 from boxplus.measurements import EvaluationError, Group, batch_errors, note, vector_error
 from boxplus.noise import NoiseModel, noise_model, noise_models
 
@@ -461,13 +461,34 @@ class OptimizationProblem:
     def add_prior(
         self, vid: int, z: Any, sigma: Any = None, covariance: Any = None,
         information: Any = None, noise: NoiseModel | None = None, loss: LossSpec = None,
-        name: str | None = None, group: str = "prior",
+        name: str | None = None, group: str = "prior", coordinates: Sequence[int | str] | None = None,
     ) -> int:
         """Adds the C++ prior r = W (x ⊟ z) on a built-in kind (Rn, SO2, SO3, SE2, SE3, S2;
         a compound's prior is a measurement ``add_measurement(z, lambda x: x, [vid])``);
-        ``group`` names its RMS group (:meth:`errors`)."""
+        ``group`` names its RMS group (:meth:`errors`).
+
+        ``coordinates`` (indices or labels of an Rn variable) puts the prior on those
+        coordinates only, r = W (x[coordinates] − z) with z an Rn of their number: the
+        other coordinates are left to the data (e.g. a lens's distortion coefficients
+        pulled towards 0, its focal lengths not)."""
         codec = self.codec(vid)
         what = f"measurement '{name}'" if name else f"prior on variable {vid}"
+        if coordinates is not None:
+            if not codec.name.startswith("Rn"):
+                raise TypeError(f"{what}: coordinates= needs an Rn variable, got {codec.name}")
+            labels = self.labels(vid)
+            index = []
+            for c in coordinates:
+                if isinstance(c, str):
+                    if c not in labels:
+                        raise ValueError(f"{what}: no coordinate '{c}' (labels: {', '.join(labels)})")
+                    index.append(labels.index(c))
+                else:
+                    index.append(int(c))
+            zv = np.asarray(z.vec if isinstance(z, Rn) else z, dtype=float).reshape(-1)
+            nm = noise_model(len(index), sigma, covariance, information, noise, what)
+            f = _core.coordinate_prior_factor(self._core, int(vid), index, zv, nm, what)
+            return self.add_factor(f, loss, name, group)
         if _codec_or_none(z) is not codec:
             raise TypeError(f"{what}: z must be a {codec.name}, got {type(z).__name__}")
         nm = noise_model(codec.dof, sigma, covariance, information, noise, what)

@@ -511,6 +511,38 @@ TEST(Prior, EveryBuiltInManifoldByTable) {
       Error);
 }
 
+// A prior on some coordinates of an Rⁿ: r = W (x[idx] − z), the Jacobian W in
+// the chosen columns and zero elsewhere (a linear factor: exact, no tolerance);
+// bad selections are refused.
+TEST(Prior, OnSomeCoordinatesOfRn) {
+  const auto rn = MakeManifold("Rn", 5);
+  Eigen::Matrix2d S;
+  S << 4, 1, 1, 3;
+  const NoiseModel noise = NoiseModel::Covariance(S);
+  const std::vector<int> idx = {3, 1};
+  const auto f = MakeCoordinatePrior(*rn, idx, Eigen::Vector2d(0.5, -1), noise, "p");
+  ASSERT_EQ(f->num_residuals(), 2);
+  Eigen::VectorXd x(5);
+  x << 1, 2, 3, 4, 5;
+  Eigen::Vector2d r;
+  Eigen::Matrix<double, 2, 5, Eigen::RowMajor> J;
+  const double* xs[] = {x.data()};
+  double* js[] = {J.data()};
+  ASSERT_TRUE(f->Evaluate(xs, r.data(), js));
+  const Eigen::Matrix2d W = noise.sqrt_information();
+  EXPECT_LT((r - W * Eigen::Vector2d(4 - 0.5, 2 + 1)).norm(), 1e-12);
+  Eigen::Matrix<double, 2, 5> expected = Eigen::Matrix<double, 2, 5>::Zero();
+  expected.col(3) = W.col(0);
+  expected.col(1) = W.col(1);
+  EXPECT_TRUE(J == expected);
+  const NoiseModel unit = NoiseModel::Unit(2);
+  EXPECT_THROW(MakeCoordinatePrior(*rn, {1, 1}, Eigen::Vector2d::Zero(), unit, "p"), Error);
+  EXPECT_THROW(MakeCoordinatePrior(*rn, {0, 5}, Eigen::Vector2d::Zero(), unit, "p"), Error);
+  EXPECT_THROW(MakeCoordinatePrior(*rn, {0}, Eigen::Vector2d::Zero(), unit, "p"), Error);
+  EXPECT_THROW(
+      MakeCoordinatePrior(*MakeManifold("SO3"), {0, 1}, Eigen::Vector2d::Zero(), unit, "p"), Error);
+}
+
 // W alone is stored; un-whitening solves with it in every shape of W and
 // agrees with the explicit inverse.
 TEST(NoiseModel, UnwhitenSolvesWithW) {

@@ -40,6 +40,16 @@ void RegisterPoseFactors(py::module_& m) {
       "r = W (x ⊟ z) on variable id of the problem (any built-in manifold); z in ambient "
       "coordinates; see factors/pose/prior.h.");
   m.def(
+      "coordinate_prior_factor",
+      [](const Problem& p, int id, const std::vector<int>& indices, const Eigen::VectorXd& z,
+         const NoiseModel& noise, const std::string& what) {
+        return Factor{MakeCoordinatePrior(p.manifold(id), indices, z, noise, what), {id}, noise};
+      },
+      py::arg("problem"), py::arg("id"), py::arg("indices"), py::arg("z"), py::arg("noise"),
+      py::arg("what") = "prior",
+      "r = W (x[indices] − z) on some coordinates of the Rn variable id; the others are "
+      "left to the data; see factors/pose/prior.h.");
+  m.def(
       "relative_pose_factor",
       [](int world_from_a, int world_from_b, const Eigen::VectorXd& a_from_b,
          const NoiseModel& noise, const std::string& what) {

@@ -2,6 +2,8 @@
 
 #include <typeindex>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "boxplus/errors.h"
 #include "boxplus/manifolds.h"
@@ -17,31 +19,42 @@ std::shared_ptr<ceres::CostFunction> Fixed(const Eigen::VectorXd& z, const Eigen
   return PriorFunctor<Ops>::Create(z, W);
 }
 
-// Rⁿ of run-time size: r = W (x − z).
+// Rⁿ of run-time size, on some of its coordinates: r = W (x[i₁..iₘ] − z). All
+// coordinates for a prior on the whole vector (MakePrior); a selection for
+// MakeCoordinatePrior, e.g. a lens's distortion coefficients without its focal
+// lengths.
 class RnPrior final : public ceres::CostFunction {
  public:
-  RnPrior(const Eigen::VectorXd& z, const Eigen::MatrixXd& W) : z_(z), W_(W) {
+  RnPrior(int size, std::vector<int> indices, const Eigen::VectorXd& z, const Eigen::MatrixXd& W)
+      : indices_(std::move(indices)), z_(z), W_(W) {
     set_num_residuals(static_cast<int>(z.size()));
-    mutable_parameter_block_sizes()->push_back(static_cast<int>(z.size()));
+    mutable_parameter_block_sizes()->push_back(size);
   }
   bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
-    const int n = static_cast<int>(z_.size());
-    Eigen::Map<Eigen::VectorXd>(residuals, n) =
-        W_ * (Eigen::Map<const Eigen::VectorXd>(x[0], n) - z_);
+    const int m = static_cast<int>(z_.size());
+    Eigen::VectorXd e(m);
+    for (int j = 0; j < m; ++j) e[j] = x[0][indices_[j]] - z_[j];
+    Eigen::Map<Eigen::VectorXd>(residuals, m) = W_ * e;
     if (jacobians && jacobians[0]) {
-      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-          jacobians[0], n, n) = W_;
+      Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> J(
+          jacobians[0], m, parameter_block_sizes()[0]);
+      J.setZero();
+      for (int j = 0; j < m; ++j) J.col(indices_[j]) = W_.col(j);
     }
     return true;
   }
 
  private:
+  std::vector<int> indices_;
   Eigen::VectorXd z_;
   Eigen::MatrixXd W_;
 };
 
 std::shared_ptr<ceres::CostFunction> Rn(const Eigen::VectorXd& z, const Eigen::MatrixXd& W) {
-  return std::make_shared<RnPrior>(z, W);
+  const int n = static_cast<int>(z.size());
+  std::vector<int> all(n);
+  for (int i = 0; i < n; ++i) all[i] = i;
+  return std::make_shared<RnPrior>(n, std::move(all), z, W);
 }
 
 // The prior of each built-in manifold, by the manifold's (final) type.
@@ -73,6 +86,28 @@ std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
     throw Error(what + ": priors are available for Rn, SO2, SO3, SE2, SE3 and S2 variables");
   }
   return it->second(z, noise.sqrt_information());
+}
+
+std::shared_ptr<ceres::CostFunction> MakeCoordinatePrior(const ceres::Manifold& manifold,
+                                                         const std::vector<int>& indices,
+                                                         const Eigen::VectorXd& z,
+                                                         const NoiseModel& noise,
+                                                         const std::string& what) {
+  BOXPLUS_CHECK(typeid(manifold) == typeid(RnManifold), what,
+                ": a prior on some coordinates needs an Rn variable");
+  const int n = manifold.AmbientSize();
+  BOXPLUS_CHECK(!indices.empty(), what, ": no coordinates given");
+  BOXPLUS_CHECK(z.size() == static_cast<Eigen::Index>(indices.size()), what, ": ", indices.size(),
+                " coordinates and ", z.size(), " observed values");
+  BOXPLUS_CHECK(noise.dim() == z.size(), what, ": noise of dimension ", noise.dim(), " for ",
+                z.size(), " coordinates");
+  std::vector<bool> seen(n, false);
+  for (const int i : indices) {
+    BOXPLUS_CHECK(i >= 0 && i < n, what, ": coordinate ", i, " of a variable with ", n);
+    BOXPLUS_CHECK(!seen[i], what, ": coordinate ", i, " given twice");
+    seen[i] = true;
+  }
+  return std::make_shared<RnPrior>(n, indices, z, noise.sqrt_information());
 }
 
 }  // namespace boxplus

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/manifold.h>
@@ -58,5 +59,17 @@ class PriorFunctor {
 std::shared_ptr<ceres::CostFunction> MakePrior(const ceres::Manifold& manifold,
                                                const Eigen::VectorXd& z_ambient,
                                                const NoiseModel& noise, const std::string& what);
+
+// A prior on some coordinates of an Rⁿ variable: r = W (x[i₁..iₘ] − z), W =
+// noise.sqrt_information() (m × m). The other coordinates are left to the data
+// (their Jacobian columns are zero), so the prior adds no information there, as
+// a prior with zero weight on them would but cannot (W must be invertible).
+// Throws boxplus::Error naming `what` for other manifolds, indices out of range
+// or repeated, and sizes that do not match.
+std::shared_ptr<ceres::CostFunction> MakeCoordinatePrior(const ceres::Manifold& manifold,
+                                                         const std::vector<int>& indices,
+                                                         const Eigen::VectorXd& z,
+                                                         const NoiseModel& noise,
+                                                         const std::string& what);
 
 }  // namespace boxplus
