@@ -201,6 +201,13 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--sigma", type=float, default=1.0, help="corner noise σ in px (default 1)")
     ap.add_argument("--robust", type=float, nargs="?", const=5.0, default=None, metavar="K",
                     help="drop corners whose error exceeds K σ̂ and re-solve (K default 5)")
+    reg = ap.add_mutually_exclusive_group()
+    reg.add_argument("--regularize", type=float, nargs="?", const=True, default=None, metavar="S",
+                     help="pull every camera's distortion terms lightly towards 0 (a prior of "
+                     "width S of their effect at the field's edge, default 0.1); without it only "
+                     "rational cameras are regularised")
+    reg.add_argument("--no-regularize", dest="regularize", action="store_false",
+                     help="no distortion prior, not even for rational cameras (OpenCV's problem)")
     ap.add_argument("--distance", type=float, default=None,
                     help="distance for the projection uncertainty (target units; default the "
                     "median distance of the boards)")
@@ -310,7 +317,8 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("ignore", RigConsistencyWarning)
             cal = calibrate_rig({c: [d[i] for i in keep] for c, d in detections.items()}, sizes,
                                 models, sigma=args.sigma, robust=args.robust,
-                                view_names=[view_names[i] for i in keep], known_intrinsics=known)
+                                view_names=[view_names[i] for i in keep], known_intrinsics=known,
+                                regularize=args.regularize)
     except ValueError as e:
         raise SystemExit(f"boxplus-calib: {e}") from None
     file_names = {c: [f.name if (f := files[c][i]) is not None else "" for i in keep] for c in files}

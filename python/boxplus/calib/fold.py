@@ -78,8 +78,9 @@ def check_fold_over(cal: Any) -> list[str]:
             msg = (f"{camera}: the fitted {model} model folds over at {np.degrees(t):.1f}° from the "
                    f"optical axis, inside the field its corners covered (up to "
                    f"{np.degrees(field):.1f}°): pixels there project wrongly although the RMS is "
-                   f"low; use a model with fewer distortion terms, or views with the board "
-                   f"near the image border")
+                   f"low; use a model with fewer distortion terms, a distortion prior "
+                   f"(regularize=True, or a smaller width; boxplus-calib --regularize), or "
+                   f"views with the board near the image border")
             warnings.warn(LensFoldWarning(msg), stacklevel=3)
             out.append(msg)
     return out

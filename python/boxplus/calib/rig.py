@@ -37,6 +37,11 @@ from boxplus.calib.init import (
 )
 from boxplus.calib.io import CalibratedCamera, to_opencv
 from boxplus.calib.models import model_labels
+from boxplus.calib.regularize import (
+    DEFAULT_PRIOR_SIGMA,
+    REGULARIZED_BY_DEFAULT,
+    add_distortion_prior,
+)
 from boxplus.manifolds import SE3, Rn
 
 __all__ = ["add_camera", "Calibration", "DroppedCorner", "IntrinsicsShift", "RigConsistencyWarning",
@@ -141,6 +146,8 @@ class Calibration:
     dropped: list[DroppedCorner] = field(default_factory=list)
     skipped: list[SkippedView] = field(default_factory=list)
     intrinsics_shift: list[Any] = field(default_factory=list)
+    # the distortion priors of regularize= (boxplus.calib.regularize), one per camera
+    priors: list[Any] = field(default_factory=list)
     observations: list[_Obs] = field(default_factory=list, repr=False)
     # reports by (rescale, problem generation): computed once per state (report())
     _reports: dict[tuple[bool, int], Any] = field(default_factory=dict, repr=False, compare=False)
@@ -153,7 +160,7 @@ class Calibration:
         """Plain Python types only (``json.dumps`` takes it): the model(s), the
         reference camera, each camera's K, distortion (OpenCV's order) and image size,
         every variable of ``ids`` as its ambient vector (poses [p, q], q = [x, y, z, w]),
-        the view names, the RMS and the solve summary."""
+        the view names, the RMS, the distortion priors and the solve summary."""
         cameras = {}
         for name in self.view_ids:
             K, dist = self.camera(name)
@@ -170,6 +177,7 @@ class Calibration:
             "view_names": list(self.view_names),
             "rms_px": self.rms(),
             "dropped_corners": len(self.dropped),
+            "distortion_priors": [p.todict() for p in self.priors],
             "summary": self.result.todict() if self.result is not None else None,
         }
 
@@ -218,10 +226,13 @@ def _assemble(obs: Sequence[_Obs], cams: Sequence[str], models: dict[str, str],
               k0: dict[str, np.ndarray], cam_from_ref0: dict[str, SE3],
               world_from_ref0: Sequence[SE3 | None], sizes: dict[str, tuple[int, int]],
               sigma: Any, covariance: Any, fixed: Sequence[str] = (),
-              view_prefix: str | None = None, prev: dict[str, Any] | None = None) -> Calibration:
+              view_prefix: str | None = None, prev: dict[str, Any] | None = None,
+              regularize: float | bool | None = None) -> Calibration:
     """The board problem of a rig: intrinsics per camera, the reference camera's
     pose per view (world = the board), cam_from_ref per other camera; values
-    from ``prev`` {variable name: value} where given (a re-solve)."""
+    from ``prev`` {variable name: value} where given (a re-solve); the distortion
+    prior of :mod:`boxplus.calib.regularize` on every estimated camera when
+    ``regularize`` (True: its default width, or the width)."""
     ref = cams[0]
     o = _problem.OptimizationProblem()
     ids: dict[str, int] = {}
@@ -250,7 +261,29 @@ def _assemble(obs: Sequence[_Obs], cams: Sequence[str], models: dict[str, str],
             ob.z, ids[ob.camera], view, rig[ob.camera], ob.obj, sigma=sigma, covariance=covariance,
             model=models[ob.camera], group=ob.camera))
         cal.view_index[ob.camera].append(ob.view)
+    for c in cams:
+        width = _prior_width(regularize, models[c])
+        prior = add_distortion_prior(cal, c, width) if width is not None else None
+        if prior is not None:
+            cal.priors.append(prior)
     return cal
+
+
+def _prior_width(regularize: float | bool | None, model: str = "") -> float | None:
+    """The distortion prior's width s for a camera of ``model`` (None: no prior): by
+    default (None) only the over-parameterised models of
+    :data:`boxplus.calib.regularize.REGULARIZED_BY_DEFAULT`; True every model at the
+    default width, a number every model at that width, False none."""
+    if regularize is None:
+        return DEFAULT_PRIOR_SIGMA if model in REGULARIZED_BY_DEFAULT else None
+    if regularize is False:
+        return None
+    if regularize is True:
+        return DEFAULT_PRIOR_SIGMA
+    s = float(regularize)
+    if not (np.isfinite(s) and s > 0):
+        raise ValueError(f"regularize: True, False, or the prior's width s > 0, got {regularize}")
+    return s
 
 
 def _values(cal: Calibration) -> dict[str, Any]:
@@ -380,7 +413,8 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
                    image_size: tuple[int, int], model: str = "opencv5", sigma: Any = None,
                    name: str = "camera", solve: bool = True, covariance: Any = None,
                    robust: float | bool | None = None,
-                   view_names: Sequence[str] | None = None) -> Calibration:
+                   view_names: Sequence[str] | None = None,
+                   regularize: float | bool | None = None) -> Calibration:
     """One camera from views of a planar board (Zhang's initial values, then ML).
 
     The corner noise is ``sigma`` (σ or [σu, σv], pixels) or a 2×2 ``covariance``
@@ -391,7 +425,13 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
     ValueError naming the camera and view for bad detections, and when the
     board planes are parallel in every view (the intrinsics are then
     undetermined); warns when the solved focal length is barely determined
-    (:func:`boxplus.calib.init.check_solved_views`)."""
+    (:func:`boxplus.calib.init.check_solved_views`). ``regularize`` pulls the
+    distortion terms lightly towards 0 (:mod:`boxplus.calib.regularize`), against
+    fold-overs of over-parameterised models: by default (None) for ``rational``
+    only, True for every model, a number for every model with that prior width s,
+    False never (OpenCV's problem exactly); ``cal.priors`` says what each camera
+    got."""
+    _prior_width(regularize)  # a bad width fails before the solve
     pts, K, cam_from_board = _camera_init(image_points, object_points, image_size, name)
     obj = np.asarray(object_points, float)
     obs = [_Obs(name, i, p, obj, np.arange(len(obj))) for i, p in enumerate(pts)]
@@ -399,7 +439,8 @@ def calibrate_mono(image_points: Sequence[np.ndarray], object_points: np.ndarray
     def build(obs, prev=None):
         return _assemble(obs, [name], {name: model}, {name: intrinsics_vector(K, model)}, {},
                          [p.inverse() for p in cam_from_board], {name: (int(image_size[0]), int(image_size[1]))},
-                         sigma, covariance, view_prefix=f"world_from_{name}", prev=prev)
+                         sigma, covariance, view_prefix=f"world_from_{name}", prev=prev,
+                         regularize=regularize)
 
     cal = build(obs)
     cal.view_names = _names(view_names, len(pts))
@@ -417,12 +458,14 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
                      fixed_intrinsics: tuple[np.ndarray, np.ndarray] | None = None,
                      solve: bool = True, covariance: Any = None,
                      robust: float | bool | None = None,
-                     view_names: Sequence[str] | None = None) -> Calibration:
+                     view_names: Sequence[str] | None = None,
+                     regularize: float | bool | None = None) -> Calibration:
     """A stereo pair seeing the same boards: intrinsics of both cameras, right_from_left
     and one world_from_left per view, jointly (or with ``fixed_intrinsics`` =
     (k_left, k_right) model vectors held constant, like OpenCV's
     CALIB_FIX_INTRINSIC). Refuses parallel boards and warns of a barely determined
-    focal length like :func:`calibrate_mono`; ``robust`` as there."""
+    focal length like :func:`calibrate_mono`; ``robust`` and ``regularize`` as there."""
+    _prior_width(regularize)
     if len(left_points) != len(right_points):
         raise ValueError(f"stereo: {len(left_points)} left and {len(right_points)} right views")
     pl, Kl, left_from_board = _camera_init(left_points, object_points, image_size, "left")
@@ -442,7 +485,8 @@ def calibrate_stereo(left_points: Sequence[np.ndarray], right_points: Sequence[n
                          {"right": relative_pose_init(left_from_board, right_from_board)},
                          [p.inverse() for p in left_from_board],
                          {"left": size, "right": size}, sigma, covariance,
-                         fixed=("left", "right") if fixed_intrinsics is not None else (), prev=prev)
+                         fixed=("left", "right") if fixed_intrinsics is not None else (), prev=prev,
+                         regularize=regularize)
 
     cal = build(obs)
     cal.view_names = _names(view_names, len(pl))
@@ -480,7 +524,8 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
                   model: str | Mapping[str, str] = "opencv5", sigma: Any = None,
                   covariance: Any = None, robust: float | bool | None = None,
                   view_names: Sequence[str] | None = None, solve: bool = True,
-                  known_intrinsics: Mapping[str, Any] | None = None) -> Calibration:
+                  known_intrinsics: Mapping[str, Any] | None = None,
+                  regularize: float | bool | None = None) -> Calibration:
     """Any number of cameras with partial overlap, in one joint solve.
 
     Parameters
@@ -498,6 +543,9 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
         Cameras calibrated before (e.g. a fisheye read from its own file): their
         intrinsics are held fixed, so the rig solve estimates only the poses for them
         (OpenCV's ``calibrateMultiview`` with ``CALIB_FIX_INTRINSIC``).
+    regularize : None (rational cameras only), True, False, or the prior's width s
+        Pulls the estimated cameras' distortion terms lightly towards 0
+        (:func:`calibrate_mono`).
 
     Notes
     -----
@@ -519,6 +567,7 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
     cams = list(detections)
     if not cams:
         raise ValueError("calibrate_rig: no cameras")
+    _prior_width(regularize)
     n_views = {len(v) for v in detections.values()}
     if len(n_views) != 1:
         raise ValueError(f"calibrate_rig: every camera needs one entry per view, got "
@@ -597,7 +646,7 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
 
     def build(obs, prev=None):
         return _assemble(obs, cams, models, k0, cam_from_ref, world_from_ref, sizes, sigma,
-                         covariance, fixed=list(known), prev=prev)
+                         covariance, fixed=list(known), prev=prev, regularize=regularize)
 
     cal = build(obs)
     cal.view_names = names
@@ -607,7 +656,8 @@ def calibrate_rig(detections: Mapping[str, Sequence[Any]],
             vids = [cal.world_from_ref[i] for i in sorted(set(cal.view_index[c]))]
             check_solved_views(cal.problem, [cal.ids[c]], [v for v in vids if v is not None], c)
         if len(cams) > 1:
-            cal.intrinsics_shift = _mono_consistency(cal, [c for c in cams if c not in known])
+            cal.intrinsics_shift = _mono_consistency(cal, [c for c in cams if c not in known],
+                                                     regularize)
             for shift in cal.intrinsics_shift:
                 if shift.worst_sigmas > MONO_SHIFT_SIGMAS:
                     warnings.warn(str(shift), RigConsistencyWarning, stacklevel=3)
@@ -652,9 +702,10 @@ class IntrinsicsShift:
                 f"give its intrinsics as known_intrinsics)")
 
 
-def _mono_consistency(cal: Calibration, cameras: Sequence[str]) -> list[IntrinsicsShift]:
-    """Each camera's mono fit (its own views only, started at the rig's values) against the
-    rig's estimate of its intrinsics."""
+def _mono_consistency(cal: Calibration, cameras: Sequence[str],
+                      regularize: float | bool | None = None) -> list[IntrinsicsShift]:
+    """Each camera's mono fit (its own views only, started at the rig's values, with the
+    rig's regularisation) against the rig's estimate of its intrinsics."""
     o = cal.problem
     out = []
     for c in cameras:
@@ -672,7 +723,8 @@ def _mono_consistency(cal: Calibration, cameras: Sequence[str]) -> list[Intrinsi
         # the rig's corner noise, so that σ is on the same footing
         corner_cov = o._core.noise(cal.view_ids[c][0]).covariance_matrix
         mono = _assemble(obs, [c], {c: cal.models[c]}, {c: k_rig}, {c: SE3()}, world_from_c,
-                         {c: cal.image_size[c]}, None, corner_cov, view_prefix=f"world_from_{c}")
+                         {c: cal.image_size[c]}, None, corner_cov, view_prefix=f"world_from_{c}",
+                         regularize=regularize)
         mono.problem.solve()
         try:
             std = mono.problem.std(mono.ids[c])

@@ -75,6 +75,8 @@ def summarise(cal: Any, report: Any, file_names: dict[str, list[str]] | None = N
         labels = o.labels(cal.ids[c])
         held = " (held fixed: known intrinsics)" if o.is_fixed(cal.ids[c]) else ""
         lines.append(f"  {c}{held}: " + ", ".join(_fmt(vals, std, std * factor, labels)))
+    for prior in getattr(cal, "priors", []):
+        lines.append(f"  {prior}")
     others = [c for c in cams if c != cal.reference]
     if others:
         lines.append(f"Extrinsics: <camera>_from_{cal.reference}, translation in the target's "
