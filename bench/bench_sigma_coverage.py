@@ -12,7 +12,10 @@ right, z = e / σ is standard normal:
   target is ≥ 99 % (a normal gives 99.73 %).
 
 Families: one camera per lens model (a fixed set of board views, noise
-re-drawn), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
+re-drawn), and the projection such a camera makes (``projection[...]``: the true ray
+at a grid of pixels through the fitted intrinsics, the user's quantity where a
+prior or a curved valley decides the parameters; the double sphere with views that
+cover the whole image), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
 gravity (scale, bias, misalignment and imu_from_cam), camera–IMU calibration in
 motion (imu_from_cam, time offset, biases) and with two cameras (a pinhole and a
@@ -52,7 +55,13 @@ LENSES: dict[str, np.ndarray] = {
     "rational": np.array([500.0, 505.0, 320.0, 240.0, -0.25, 0.08, 0.001, -0.0015, -0.01,
                           0.02, 0.01, 0.005]),
 }
+# Wide-angle lenses, captured by views over the whole image (wide_camera_family).
+LENSES_WIDE: dict[str, np.ndarray] = {"double_sphere": np.array([250.0, 252.0, 320.0, 240.0, -0.15, 0.58])}
 PIXEL_SIGMA = 0.3
+
+def _lens(model: str) -> np.ndarray:
+    return LENSES[model] if model in LENSES else LENSES_WIDE[model]
+
 
 Trial = Callable[[np.random.Generator], tuple[list[str], np.ndarray, np.ndarray]]
 
@@ -78,14 +87,14 @@ def _views(model: str, n: int, seed: int = 1) -> tuple[np.ndarray, list[bp.SE3]]
     out: list[bp.SE3] = []
     while len(out) < n:
         v = random_views(1, rng, p.mean(axis=0), spread=0.45, roll=0.8)[0]
-        if observe(LENSES[model], v, p, 0.0, rng, model=model)[1].all():
+        if observe(_lens(model), v, p, 0.0, rng, model=model)[1].all():
             out.append(v)
     return p, out
 
 
 def camera_family(model: str, n_views: int = 14) -> Trial:
     p, views = _views(model, n_views)
-    k = LENSES[model]
+    k = _lens(model)
     labels = bp.calib.models.model_labels(model) if hasattr(bp, "calib") else None
 
     def trial(rng):
@@ -97,17 +106,51 @@ def camera_family(model: str, n_views: int = 14) -> Trial:
     return trial
 
 
-def projection_family(model: str, n_views: int = 14, grid: tuple[int, int] = (4, 3)) -> Trial:
+def _wide_views(model: str, n: int, seed: int = 5) -> tuple[np.ndarray, list[bp.SE3]]:
+    """Board points and n world_from_cam views whose boards cover the whole image (corners
+    up to ~58° from the axis for the double sphere): a wide lens's f, ξ and α are only
+    determined by views reaching its periphery."""
+    from boxplus.calib.targets import Target
+    from boxplus.synthetic.images import board_views
+
+    target = Target("chessboard", 9, 6, 0.04)
+    poses = board_views(target, model, _lens(model), (640, 480), n, np.random.default_rng(seed),
+                        max_tilt_deg=45.0, fill=0.95)
+    return target.points(), [q.inverse() for q in poses]
+
+
+def wide_camera_family(model: str, n_views: int = 14) -> Trial:
+    """camera_family on views that cover the whole image (:func:`_wide_views`)."""
+    p, views = _wide_views(model, n_views)
+    k = _lens(model)
+    labels = bp.calib.models.model_labels(model)
+
+    def trial(rng):
+        z = [observe(k, v, p, PIXEL_SIGMA, rng, model=model)[0] for v in views]
+        cal = calibrate_mono(z, p, (640, 480), model=model, sigma=PIXEL_SIGMA)
+        e, s = _error(cal.problem, cal.ids["camera"], bp.Rn(k))
+        return [f"camera.{n}" for n in labels], e, s
+
+    return trial
+
+
+def projection_family(model: str, n_views: int = 14, grid: tuple[int, int] = (4, 3),
+                      wide: bool = False) -> Trial:
     """The camera family scored by what a user projects: at a grid of pixels over the
-    central half of the image, the true ray's projection through the fitted intrinsics
-    minus the pixel (u and v), σ from the intrinsics' covariance (J Σ Jᵀ, J by central
+    central half of the image (``wide``: the views of :func:`_wide_views` and a 5 × 4 grid
+    over 3/4 of it), the true ray's projection through the fitted intrinsics minus the
+    pixel (u and v), σ from the intrinsics' covariance (J Σ Jᵀ, J by central
     differences). For the rational model, regularised by default, the coefficients sit
-    in a valley the prior decides; the projection is what the data determine."""
+    in a valley the prior decides; for the double sphere f, ξ and α trade along a curved
+    one; the projection is what the data determine."""
     from boxplus.calib.models import project, rays
 
-    p, views = _views(model, n_views)
-    k = LENSES[model]
-    gu, gv = np.meshgrid(np.linspace(160, 480, grid[0]), np.linspace(120, 360, grid[1]))
+    p, views = _wide_views(model, n_views) if wide else _views(model, n_views)
+    k = _lens(model)
+    if wide:
+        gu, gv = np.meshgrid(np.linspace(80, 560, 5), np.linspace(60, 420, 4))
+    else:
+        gu, gv = np.meshgrid(np.linspace(160, 480, grid[0]), np.linspace(120, 360, grid[1]))
     pix = np.column_stack([gu.ravel(), gv.ravel()])
     ray = rays(k, pix, model)
     names = [f"({u:.0f},{v:.0f}).{a}" for u, v in pix for a in "uv"]
@@ -130,7 +173,7 @@ def projection_family(model: str, n_views: int = 14, grid: tuple[int, int] = (4,
 def stereo_family(n_views: int = 12) -> Trial:
     model = "opencv5"
     p, views = _views(model, n_views, seed=2)
-    k = LENSES[model]
+    k = _lens(model)
     right_from_left = bp.SE3(bp.SO3.exp(np.array([0.01, 0.03, -0.005])), np.array([-0.12, 0.002, 0.001]))
     views = [v for v in views
              if observe(k, v * right_from_left.inverse(), p, 0.0, np.random.default_rng(0))[1].all()]
@@ -351,6 +394,8 @@ def pose_graph_family(family: str, dimension: int, n: int = 60) -> Trial:
 FAMILIES: dict[str, Callable[[], Trial]] = {
     **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
     **{f"projection[{m}]": (lambda m=m: projection_family(m)) for m in ("opencv5", "rational")},
+    "camera[double_sphere, wide]": lambda: wide_camera_family("double_sphere"),
+    "projection[double_sphere, wide]": lambda: projection_family("double_sphere", wide=True),
     "stereo[opencv5]": stereo_family,
     "rig[3 cameras, radial2]": rig_family,
     "joint rig (arm + stereo)": joint_rig_family,
