@@ -557,3 +557,53 @@ def test_coplanar_points_estimate_their_plane():
     plane = rig.plane_in_root(wall)
     s = np.sign(plane[:3] @ n)
     assert np.allclose(s * plane[:3], n, atol=1e-9) and np.isclose(s * plane[3], 1.5)
+
+
+def test_suggested_arm_pose_predicts_the_sigma_its_capture_gives():
+    """suggest_arm_poses ranks candidate joint readings by the DH table's σ their view
+    would leave; capturing the first and the last (noise-free pixels from the truth,
+    re-solved) gives the σ each was predicted to give, the first the lower."""
+    import importlib.util
+    import warnings
+    from pathlib import Path
+
+    from boxplus.calib.models import project as project_lens
+    from boxplus.synthetic.joint_rigs import HOME
+
+    spec = importlib.util.spec_from_file_location(
+        "joint_rig_tutorial", Path(__file__).resolve().parents[2] / "docs" / "tutorials" / "joint_rig.py")
+    tutorial = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tutorial)
+    data = make_rig(0, n_boards=6)
+    rig = tutorial.build(data)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rig.solve()
+    rng = np.random.default_rng(3)
+    candidates = [HOME + rng.normal(0.0, [0.25, 0.15, 0.15, 0.25, 0.5]) for _ in range(8)]
+    candidates.append(HOME + [np.pi, 0.0, 0.0, 0.0, 0.0])  # the board turned away: out of view
+    n_terms = rig.problem.num_measurements
+    ranked = rig.suggest_arm_poses("arm", candidates, data.board, "stereo", sigma=data.sigma_px,
+                                   image_size=(640, 480))
+    assert rig.problem.num_measurements == n_terms  # the rig itself is unchanged
+    assert sorted(i for i, _ in ranked) == list(range(8))  # the turned-away one is left out
+    scores = [s for _, s in ranked]
+    assert scores == sorted(scores) and 0 < scores[0] < scores[-1] < 1
+    dh = [rig.ids["arm.dh"]]
+    before = np.sqrt(np.diag(rig.problem.joint_covariance(dh)))
+    for index, predicted in (ranked[0], ranked[-1]):
+        captured = rig._bound_to(rig.problem.copy())
+        q = candidates[index]
+        for camera, (k, arm_from_cam) in enumerate(((data.k1_true, data.arm_from_cam1),
+                                                    (data.k2_true, data.arm_from_cam2))):
+            cam_from_board = arm_from_cam.inverse() * data.board_pose(q)
+            z = project_lens(k, data.board @ cam_from_board.R.T + cam_from_board.pos, data.model)
+            captured.project_targets("arm", q, data.board, "stereo", z, camera=camera, reading="new",
+                                     sigma=data.sigma_px)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            captured.problem.solve()
+        after = np.sqrt(np.diag(captured.problem.joint_covariance(dh)))
+        assert np.mean(after / before) == pytest.approx(predicted, rel=0.01)
+    with pytest.raises(ValueError, match="no variable"):
+        rig.suggest_arm_poses("arm", candidates[:1], data.board, "stereo", sigma=0.3, variables=["nope"])

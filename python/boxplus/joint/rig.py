@@ -41,6 +41,7 @@ a-coordinates to b. Lengths in metres, angles in radians, pixels for images.
 
 from __future__ import annotations
 
+import copy
 import functools
 from collections import deque
 from collections.abc import Sequence
@@ -800,6 +801,63 @@ class JointRig:
             raise ValueError(f"the data cannot determine {names}: add data, priors (prior_sigma) or "
                              f"take these entries out of 'unknown'")
 
+    def suggest_arm_poses(self, arm: str, candidates: Sequence[Any], p_in_target: Any, system: str,
+                          sigma: Any, cameras: Sequence[int] | None = None,
+                          variables: Sequence[str] | None = None,
+                          score: Callable[[np.ndarray], float] | None = None,
+                          image_size: tuple[int, int] | None = None) -> list[tuple[int, float]]:
+        """What to capture next: candidate joint readings of ``arm`` ranked by the σ their
+        board view would leave (as :func:`boxplus.calib.suggest.rank_candidates` ranks the
+        captures of any problem).
+
+        Each candidate adds, to a copy of the rig, the view of the target points
+        ``p_in_target`` (M, 3) in ``cameras`` of ``system`` (default: both cameras of a
+        stereo pair, the one camera otherwise) at corner noise ``sigma``, with a reading of
+        its own (encoder noise) — the terms :meth:`project_targets` adds, at the current
+        estimates (only the Jacobians enter the covariance). Scored by ``score`` of the
+        joint covariance of ``variables`` (names of :attr:`ids`; default the arm's DH
+        table); the default score is the mean over their tangent directions of σ after /
+        σ now (1: the view adds nothing), which mixes lengths and angles without units
+        and is not stuck at the entries only a prior bounds, as the largest σ would be. With ``image_size`` (width, height) a candidate
+        whose target leaves any of the images, or lies behind a camera, is left out.
+        Returns [(candidate index, score)], best first; call after :meth:`solve`."""
+        what = f"suggest_arm_poses of '{arm}'"
+        self._system(arm, DHArm, what)
+        s = self._system(system, (Stereo, Camera, LightSheet, Beam), what)
+        cams = list(cameras) if cameras is not None else ([0, 1] if isinstance(s, Stereo) else [0])
+        names = list(variables) if variables is not None else [f"{arm}.dh"]
+        missing = [n for n in names if n not in self.ids]
+        if missing:
+            raise ValueError(f"{what}: no variable {missing} (variables: {', '.join(self.ids)})")
+        ids = [self.ids[n] for n in names]
+        before = np.sqrt(np.diag(np.asarray(self.problem.joint_covariance(ids))))
+
+        def relative(c: np.ndarray) -> float:
+            return float(np.mean(np.sqrt(np.diag(c)) / before))
+
+        measure = score or relative
+        P = np.asarray(p_in_target, dtype=float)
+        zeros = np.zeros((len(P), 2))  # z = 0: a term's error is then its predicted pixels
+        out = []
+        for i, q in enumerate(candidates):
+            rig = self._bound_to(self.problem.copy())
+            mids = [rig.project_targets(arm, q, P, system, zeros, camera=c, reading=("suggest", i),
+                                        sigma=sigma) for c in cams]
+            if image_size is not None and not all(_in_image(rig, m, image_size) for m in mids):
+                continue
+            out.append((i, measure(np.asarray(rig.problem.joint_covariance(ids)))))
+        return sorted(out, key=lambda r: r[1])
+
+    def _bound_to(self, problem: OptimizationProblem) -> JointRig:
+        """This rig writing into ``problem`` (a copy of its own), its bookkeeping copied so
+        that terms added there leave this rig unchanged."""
+        rig = copy.copy(self)
+        rig.problem = problem
+        rig.ids, rig.surfaces = dict(self.ids), dict(self.surfaces)
+        rig._edges, rig._data = list(self._edges), dict(self._data)
+        rig._readings, rig._reading_q = dict(self._readings), dict(self._reading_q)
+        return rig
+
     def factory(self) -> Callable[[], OptimizationProblem]:
         """A picklable callable building a fresh copy of the problem (same ids, current values,
         the same fixed variables): what parallel restarts solve. The copy is rebuilt from the
@@ -838,6 +896,15 @@ def add_joint_term(problem: OptimizationProblem, spec: dict, noise: NoiseModel, 
     except (RuntimeError, ValueError, KeyError, TypeError) as e:
         raise ValueError(f"{what}: {e}") from None
     return problem.add_factor(factor, loss, name, group)
+
+
+def _in_image(rig: JointRig, mid: int, image_size: tuple[int, int]) -> bool:
+    """Whether the pixels a term with z = 0 predicts (its error) lie in the image and in
+    front of the camera (a point behind it projects to non-finite or mirrored pixels)."""
+    with np.errstate(invalid="ignore"):
+        uv = np.asarray(rig.problem.measurement_errors(mid), dtype=float).reshape(-1, 2)
+    w, h = image_size
+    return bool(np.all(np.isfinite(uv)) and np.all(uv >= 0) and np.all(uv[:, 0] < w) and np.all(uv[:, 1] < h))
 
 
 def _pixels(z: Any, what: str) -> np.ndarray:
