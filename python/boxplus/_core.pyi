@@ -1767,13 +1767,13 @@ def spline_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typi
     """
     r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.
     """
-def spline_offset_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81) -> Factor:
+def spline_offset_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81, time_offset: typing.SupportsInt | typing.SupportsIndex | None = None, d0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> Factor:
     """
     Another IMU's accelerometer, with its lever arm: r = W (R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + ω × (ω × r)) + b_a − z); see factors/imu/spline_terms.h.
     """
-def spline_offset_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel) -> Factor:
+def spline_offset_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, time_offset: typing.SupportsInt | typing.SupportsIndex | None = None, d0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> Factor:
     """
-    Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z); see factors/imu/spline_terms.h.
+    Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z), with time_offset (an Rn(1) id) read at body time t + d, u computed with d = d0; see factors/imu/spline_terms.h.
     """
 def spline_reprojection_factor(model: str, knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], imu_from_cam: typing.SupportsInt | typing.SupportsIndex, offset: typing.SupportsInt | typing.SupportsIndex, intrinsics: typing.SupportsInt | typing.SupportsIndex, t_rel: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[2, 1]"], noise: NoiseModel, p_in_world: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], line_delay: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """

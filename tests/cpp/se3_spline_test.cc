@@ -214,6 +214,34 @@ TEST(Se3Spline, AnotherImuFeelsItsLeverArm) {
   ab.push_back(g_dir.data());
   ASSERT_TRUE(accel->Evaluate(ab.data(), r.data(), nullptr));
   EXPECT_LT(r.norm(), 1e-4 * (1 + f_k.norm()));
+
+  // Its clock 7 ms behind: the sample stamped at u − d/Δt on its own clock, read with the
+  // time-offset block d (u computed with the guess d0 = 5 ms), is the same reading; the
+  // Jacobian in d equals a central difference.
+  const double d = 0.007, d0 = 0.005;
+  const double u_own = u - d / dt;  // where its stamp alone would put it
+  const double u0 = u_own + d0 / dt;
+  for (const bool is_gyro : {true, false}) {
+    auto f = is_gyro ? MakeSplineOffsetGyroFactor(u0, dt, w_k + bg, NoiseModel::Isotropic(3, 1.0),
+                                                  true, d0)
+                     : MakeSplineOffsetAccelFactor(u0, dt, f_k + ba, NoiseModel::Isotropic(3, 1.0),
+                                                   9.81, true, d0);
+    std::vector<const double*> db = is_gyro ? gb : ab;
+    db.push_back(&d);
+    ASSERT_TRUE(f->Evaluate(db.data(), r.data(), nullptr));
+    EXPECT_LT(r.norm(), 1e-4 * (1 + f_k.norm())) << (is_gyro ? "gyro" : "accel");
+    Eigen::Vector3d J_d, r_plus, r_minus;
+    std::vector<double*> jac(db.size(), nullptr);
+    jac.back() = J_d.data();
+    ASSERT_TRUE(f->Evaluate(db.data(), r.data(), jac.data()));
+    const double step = 1e-7, d_plus = d + step, d_minus = d - step;
+    db.back() = &d_plus;
+    ASSERT_TRUE(f->Evaluate(db.data(), r_plus.data(), nullptr));
+    db.back() = &d_minus;
+    ASSERT_TRUE(f->Evaluate(db.data(), r_minus.data(), nullptr));
+    EXPECT_LT((J_d - (r_plus - r_minus) / (2 * step)).norm(), 1e-4 * J_d.norm() + 1e-6);
+    EXPECT_GT(J_d.norm(), 0.1);
+  }
 }
 
 }  // namespace

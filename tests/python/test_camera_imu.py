@@ -207,6 +207,30 @@ def test_a_second_imu_is_placed_by_its_lever_arm_and_rotation():
         calibrate_camera_imu(late, K, pixel_sigma=0.3)
 
 
+def test_a_second_imu_on_its_own_clock_gets_its_time_offset():
+    # The second IMU's clock runs 4 ms behind the first one's (Kalibr estimates such an
+    # offset per IMU): started from the alignment of the two gyroscopes, the offset comes
+    # out within σ and 0.2 ms, its pose as on a shared clock; on one clock (the earlier
+    # test's rig) the estimate is 0 within σ.
+    rng = np.random.default_rng(1)
+    i01 = SE3(SO3.exp(np.array([0.3, -1.2, 0.5])), np.array([0.08, -0.03, 0.05]))
+    data, truth, K = simulate_camera_imu(rng, time_offset=0.007,
+                                         other_imus=[SimulatedImu(i01, phase=0.0025, time_offset=0.004)])
+    assert truth["imu_time_offsets"] == [0.0, 0.004]
+    cal = calibrate_camera_imu(data, K, pixel_sigma=0.3)
+    d, s = cal.imu_time_offsets[1], cal.std("imu_time_offset[1]")[0]
+    assert abs(d - 0.004) < max(4 * s, 1e-5) and abs(d - 0.004) < 2e-4 and s < 1e-4
+    est = cal.imu0_from_imus[1]
+    err = np.r_[est.pos - i01.pos, (i01.rot.inverse() * est.rot).log()]
+    assert np.all(np.abs(err) < 4 * cal.std("imu0_from_imu[1]"))
+    assert "imu_time_offset[1]" in cal.todict()["std"]
+    # told that the clocks are one, the fit has no offset to estimate and the second IMU's
+    # residuals show the 4 ms it cannot explain
+    shared = calibrate_camera_imu(data, K, pixel_sigma=0.3, imu_time_offsets=False)
+    assert shared.imu_time_offsets == [0.0, 0.0] and "imu_time_offset[1]" not in shared.ids
+    assert shared.problem.rms()["gyroscope imu1"] > 1.2 * cal.problem.rms()["gyroscope imu1"]
+
+
 def test_the_knot_spacing_follows_a_motion_faster_than_the_default_spline():
     # A rig waved at up to 3 Hz (no spline: sums of sinusoids): a spline with knots every
     # 50 ms cannot follow it (IMU residuals 8× the noise, or a refused fit); the default

@@ -78,30 +78,38 @@ void RegisterImuFactors(py::module_& m) {
   m.def(
       "spline_offset_gyro_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, double u, double dt,
-         const Eigen::Vector3d& z, const NoiseModel& noise) {
+         const Eigen::Vector3d& z, const NoiseModel& noise, std::optional<int> time_offset,
+         double d0) {
         if (knots.size() != 4) throw py::value_error("spline_offset_gyro_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(body_from_imu);
         ids.push_back(bias);
-        return Factor{MakeSplineOffsetGyroFactor(u, dt, z, noise), ids, noise};
+        if (time_offset) ids.push_back(*time_offset);
+        return Factor{MakeSplineOffsetGyroFactor(u, dt, z, noise, time_offset.has_value(), d0), ids,
+                      noise};
       },
       py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("u"), py::arg("dt"),
-      py::arg("z"), py::arg("noise"),
-      "Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z); see factors/imu/spline_terms.h.");
+      py::arg("z"), py::arg("noise"), py::arg("time_offset") = py::none(), py::arg("d0") = 0.0,
+      "Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z), with time_offset (an Rn(1) id) "
+      "read at body time t + d, u computed with d = d0; see factors/imu/spline_terms.h.");
   m.def(
       "spline_offset_accel_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, int gravity, double u,
-         double dt, const Eigen::Vector3d& z, const NoiseModel& noise, double g) {
+         double dt, const Eigen::Vector3d& z, const NoiseModel& noise, double g,
+         std::optional<int> time_offset, double d0) {
         if (knots.size() != 4)
           throw py::value_error("spline_offset_accel_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(body_from_imu);
         ids.push_back(bias);
         ids.push_back(gravity);
-        return Factor{MakeSplineOffsetAccelFactor(u, dt, z, noise, g), ids, noise};
+        if (time_offset) ids.push_back(*time_offset);
+        return Factor{MakeSplineOffsetAccelFactor(u, dt, z, noise, g, time_offset.has_value(), d0),
+                      ids, noise};
       },
       py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("gravity"), py::arg("u"),
       py::arg("dt"), py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
+      py::arg("time_offset") = py::none(), py::arg("d0") = 0.0,
       "Another IMU's accelerometer, with its lever arm: r = W (R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + "
       "ω × (ω × r)) + b_a − z); see factors/imu/spline_terms.h.");
   m.def(

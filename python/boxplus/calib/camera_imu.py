@@ -155,6 +155,9 @@ class CameraImuCalibration:
     imu0_from_imus: list[SE3] = field(default_factory=list)
     imu_gyro_biases: list[np.ndarray] = field(default_factory=list)
     imu_accel_biases: list[np.ndarray] = field(default_factory=list)
+    # per IMU: its clock's offset d (s; its stamp + d is the first IMU's time; 0 for the
+    # first, and for all with imu_time_offsets=False)
+    imu_time_offsets: list[float] = field(default_factory=list)
 
     def cam_from_cam(self, c: int, ref: int = 0) -> SE3:
         """cam_c_from_cam_ref: camera ``ref``'s coordinates into camera c's (Kalibr's
@@ -191,7 +194,8 @@ class CameraImuCalibration:
                   for v in ("imu_from_cam", "time_offset")]
         names += [f"line_delay[{c}]" for c, ell in enumerate(self.line_delays) if ell is not None]
         names += [f"{v}[{k}]" for k in range(1, len(self.imu0_from_imus))
-                  for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias")]
+                  for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias", "imu_time_offset")
+                  if f"{v}[{k}]" in self.ids]
         return {**fields_todict(self, skip=("problem", "ids")),
                 "std": {n: self.std(n).tolist() for n in names},
                 "knots": self.n_knots}
@@ -298,8 +302,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                          bias_spacing: float = 0.1, common_clock: bool = False,
                          rolling_shutter: bool | list[bool] = False,
                          line_delay: float | list[float] = 0.0,
-                         other_imu_sigmas: list[tuple[float, float]] | None = None
-                         ) -> CameraImuCalibration:
+                         other_imu_sigmas: list[tuple[float, float]] | None = None,
+                         imu_time_offsets: bool = True) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
 
@@ -318,7 +322,10 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     Several IMUs (``data.other_imus``): each gets its pose in the first IMU's frame
     (imu0_from_imu, the lever arm included) and its own biases (segments as the first
     IMU's); ``other_imu_sigmas`` gives their (gyro σ, accel σ) per sample, else the
-    first IMU's. They share its clock (no time offset between IMUs).
+    first IMU's. Each IMU's clock offset d_k (its stamp + d_k is the first IMU's time,
+    Kalibr's per-IMU ``time_offset``) is estimated, started from the alignment of its
+    gyroscope with the first one's over ±``max_offset``; ``imu_time_offsets=False``
+    when all IMUs share the first one's clock.
     ``gyro_sigma``/``accel_sigma``: the per-sample noise
     (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
     (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
@@ -357,7 +364,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
          gravity_magnitude: float, estimate_intrinsics: bool, gyro_random_walk: float | None,
          accel_random_walk: float | None, bias_spacing: float, common_clock: bool,
          rolling_shutter: bool | list[bool], line_delay: float | list[float],
-         other_imu_sigmas: list[tuple[float, float]] | None, offsets_start: list[float] | None = None
+         other_imu_sigmas: list[tuple[float, float]] | None, imu_time_offsets: bool = True,
+         offsets_start: list[float] | None = None
          ) -> CameraImuCalibration:
     """One fit at one knot spacing (calibrate_camera_imu); ``offsets_start``: the cameras'
     time offsets to start from instead of the angular-velocity alignment's."""
@@ -494,7 +502,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
         o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
                                                gravity_magnitude), group="accelerometer")
     imus = _add_other_imus(o, ids, data, knots, t0, dt, bias_times, walks, gyro_sigma, accel_sigma,
-                           other_imu_sigmas, gravity_magnitude, t_imu, gyro)
+                           other_imu_sigmas, gravity_magnitude, t_imu, gyro,
+                           max_offset if imu_time_offsets else None)
     groups = [f"reprojection {cam.name}" if several else "reprojection" for cam in cameras]
     for c, fr in enumerate(frames):
         ell_id = ids.get(f"line_delay[{c}]")
@@ -513,7 +522,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
     # at their start, then everything
     held = sorted({ids[f"{v}[{c}]"] for c in range(n_cam) for v in ("imu_from_cam", "time_offset")}
                   | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]}
-                  | {ids[f"imu0_from_imu[{k}]"] for k in range(1, len(imus) + 1)})
+                  | {ids[f"{v}[{k}]"] for k in range(1, len(imus) + 1)
+                     for v in ("imu0_from_imu", "imu_time_offset") if f"{v}[{k}]" in ids})
     for vid in held:
         o.fix(vid)
     o.solve(method="auto", max_iterations=50, check_determined=False)
@@ -550,7 +560,9 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
         ["imu0", *(name for name, _, _ in imus)],
         [SE3(), *(o[ids[f"imu0_from_imu[{k}]"]] for k in range(1, len(imus) + 1))],
         [_bias_means(o, ids, f"imu{k}." if k else "", "gyro_bias", n_seg) for k in range(len(imus) + 1)],
-        [_bias_means(o, ids, f"imu{k}." if k else "", "accel_bias", n_seg) for k in range(len(imus) + 1)])
+        [_bias_means(o, ids, f"imu{k}." if k else "", "accel_bias", n_seg) for k in range(len(imus) + 1)],
+        [0.0, *(float(o[ids[f"imu_time_offset[{k}]"]].vec[0]) if f"imu_time_offset[{k}]" in ids else 0.0
+                for k in range(1, len(imus) + 1))])
 
 
 # The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on
@@ -625,11 +637,13 @@ def _imu_misfit(cal: CameraImuCalibration, gyro_sigma: float, accel_sigma: float
 def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImuData, knots: list[int],
                     t0: float, dt: float, bias_times: np.ndarray, walks: tuple[float, float] | None,
                     gyro_sigma: float, accel_sigma: float, sigmas: list[tuple[float, float]] | None,
-                    gravity_magnitude: float, t_body: np.ndarray,
-                    gyro_body: np.ndarray) -> list[tuple[str, float, float]]:
+                    gravity_magnitude: float, t_body: np.ndarray, gyro_body: np.ndarray,
+                    max_offset: float | None) -> list[tuple[str, float, float]]:
     """The terms of every IMU after the first (calibrate_camera_imu's docstring): its pose
     imu0_from_imu (ids "imu0_from_imu[k]", the rotation started by aligning its gyroscope
-    with the first one's, Wahba; the lever arm at 0), its biases ("imu{k}.gyro_bias[s]",
+    with the first one's, Wahba; the lever arm at 0), its clock's offset
+    ("imu_time_offset[k]", started where the two gyroscopes align best within
+    ±``max_offset``; none when None), its biases ("imu{k}.gyro_bias[s]",
     "imu{k}.accel_bias[s]", on the first IMU's segments) and its samples inside the
     spline. Returns (name, gyro σ, accel σ) per IMU."""
     imus = data.other_imus
@@ -646,14 +660,22 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
             raise ValueError(f"calibrate_camera_imu: IMU {name}: times must increase, one gyro and "
                              f"accel row each (at least 10)")
         gs, acs = sigmas[k - 1] if sigmas is not None else (gyro_sigma, accel_sigma)
-        # ω_body = R_k ω_k: the rotation of imu0_from_imu from both gyroscopes
-        w_body = np.stack([np.interp(t, t_body, gyro_body[:, j]) for j in range(3)], axis=1)
-        R = rotation_between(g, w_body)
+        # ω_body(t + d) = R_k ω_k(t): the offset and the rotation of imu0_from_imu from both
+        # gyroscopes
+        if max_offset is None:
+            d0 = 0.0
+            w_body = np.stack([np.interp(t, t_body, gyro_body[:, j]) for j in range(3)], axis=1)
+            R = rotation_between(g, w_body)
+        else:
+            d0, R = _offset_and_rotation(t, g, t_body, gyro_body, max_offset)
+            ids[f"imu_time_offset[{k}]"] = o.add_random_var(Rn(np.array([d0])), name=f"time_offset_{name}")
+        offset = ids.get(f"imu_time_offset[{k}]")
         ids[f"imu0_from_imu[{k}]"] = o.add_random_var(SE3(SO3(R), np.zeros(3)), name=f"imu0_from_{name}")
+        t = t + d0  # on the first IMU's clock
         inside = (t >= t0) & (t < t0 + (n_knots - 3) * dt)
         if inside.sum() < 10:
             raise ValueError(f"calibrate_camera_imu: IMU {name}: {inside.sum()} samples inside the "
-                             f"spline's time span; need at least 10 (its clock must be the first IMU's)")
+                             f"spline's time span; need at least 10 (its clock must be within max_offset of the first IMU's)")
         segment = np.clip(np.searchsorted(bias_times, t[inside], side="right") - 1, 0, n_seg - 1)
         _add_biases(o, ids, f"imu{k}.", name, bias_times, walks)
         for kind in ("gyro_bias", "accel_bias"):
@@ -663,10 +685,12 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
         for ti, w, f, seg in zip(t[inside], g[inside], a[inside], segment):
             i, u = spline_segment(ti, t0, dt, n_knots)
             kn = knots[i:i + 4]
-            o.add_factor(_core.spline_offset_gyro_factor(kn, pose, ids[f"imu{k}.gyro_bias[{seg}]"], u, dt, w, gn),
+            o.add_factor(_core.spline_offset_gyro_factor(kn, pose, ids[f"imu{k}.gyro_bias[{seg}]"], u, dt, w, gn,
+                                                         offset, d0),
                          group=f"gyroscope {name}")
             o.add_factor(_core.spline_offset_accel_factor(kn, pose, ids[f"imu{k}.accel_bias[{seg}]"],
-                                                          ids["gravity"], u, dt, f, an, gravity_magnitude),
+                                                          ids["gravity"], u, dt, f, an, gravity_magnitude,
+                                                          offset, d0),
                          group=f"accelerometer {name}")
         out.append((name, gs, acs))
     return out

@@ -18,7 +18,8 @@ on one trajectory: ``--cam cam0 cam1`` (EuRoC) or ``--image-topic /cam0/image_ra
 /cam1/image_raw`` (bags), the i-th camera with the i-th camera of ``--intrinsics`` (or
 of ``--camera-name``); ``--common-clock`` when they are triggered together (one time
 offset). More IMUs (``--imu-folder imu0 imu1``, ``--imu-topic /imu0 /imu1``) are placed
-in the first one's frame (``imu-imucam.yaml``, Kalibr's ``T_i_b``).
+in the first one's frame (``imu-imucam.yaml``, Kalibr's ``T_i_b``) with their clocks'
+offsets to the first one's (``time_offset``; ``--imus-common-clock`` when they share it).
 ``--rolling-shutter`` estimates each camera's line delay (Kalibr's camchain has
 no field for it: it is in ``camera_imu.yaml`` and the report). It
 
@@ -89,6 +90,9 @@ def _parser() -> argparse.ArgumentParser:
                          "stereo pair)")
     ap.add_argument("--common-clock", action="store_true",
                     help="the cameras are triggered together: one time offset for all")
+    ap.add_argument("--imus-common-clock", action="store_true",
+                    help="the IMUs share the first one's clock: no time offset between IMUs "
+                         "(default: each other IMU's offset is estimated)")
     ap.add_argument("--rolling-shutter", action="store_true",
                     help="the cameras read their rows one after the other: estimate each one's "
                          "line delay (row v seen at the frame's timestamp + delay·v)")
@@ -249,6 +253,10 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
         lines.append(f"imu0_from_{name} (its lever arm and rotation in the first IMU's frame; "
                      f"value ± σ):")
         lines += _pose_lines(cal.imu0_from_imus[k], cal.std(f"imu0_from_imu[{k}]"))
+        if f"imu_time_offset[{k}]" in cal.ids:
+            d = cal.imu_time_offsets[k]
+            lines.append(f"{name} time offset: t_imu0 = t_{name} {'+' if d >= 0 else '−'} "
+                         f"{abs(d) * 1e3:.4f} ms ± {cal.std(f'imu_time_offset[{k}]')[0] * 1e3:.4f} ms")
         lines.append(f"{name} biases: gyroscope (rad/s) "
                      + " ".join(f"{v:+.5f}" for v in cal.imu_gyro_biases[k])
                      + ", accelerometer (m/s²) " + " ".join(f"{v:+.4f}" for v in cal.imu_accel_biases[k]))
@@ -276,7 +284,8 @@ def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[f
     """Kalibr's imu result YAML for a rig of several IMUs: per IMU ``T_i_b`` (the body
     (first IMU) into this IMU's frame, 4 × 4), the noise densities the fit assumed
     (σ per sample / √rate, Kalibr's discretisation undone) and the random walks,
-    ``time_offset`` (0: one clock), ``update_rate`` (from the samples' median spacing)
+    ``time_offset`` (s added to this IMU's stamps to reach the first IMU's clock, as
+    Kalibr applies it), ``update_rate`` (from the samples' median spacing)
     and ``rostopic``."""
     topics = (args.imu_topic or [None]) if bag else [None] * len(cal.imu_names)
     times = [np.asarray(data.imu_times), *(np.asarray(i.imu_times) for i in data.other_imus)]
@@ -288,7 +297,8 @@ def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[f
                                  "gyroscope_noise_density": float(sigmas[k][0] / np.sqrt(rate))}
         if walks[0] is not None and walks[1] is not None:
             entry.update(accelerometer_random_walk=float(walks[1]), gyroscope_random_walk=float(walks[0]))
-        entry.update(time_offset=0.0, update_rate=rate, rostopic=topics[k] or f"/{name}")
+        entry.update(time_offset=float(cal.imu_time_offsets[k]), update_rate=rate,
+                     rostopic=topics[k] or f"/{name}")
         doc[f"imu{k}"] = entry
     return doc
 
@@ -346,6 +356,7 @@ def main(argv: list[str] | None = None) -> int:
                 accel_sigma=accel_sigma, knot_spacing=args.knot_spacing, max_offset=args.max_offset,
                 gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
                 bias_spacing=args.bias_spacing, common_clock=args.common_clock,
+                imu_time_offsets=not args.imus_common_clock,
                 rolling_shutter=args.rolling_shutter, line_delay=args.line_delay,
                 other_imu_sigmas=imu_sigmas[1:])
     except ValueError as e:

@@ -26,14 +26,16 @@ __all__ = ["SimulatedCamera", "SimulatedImu", "simulate_camera_imu"]
 @dataclass
 class SimulatedImu:
     """One more IMU on the simulated rig: its pose in the first IMU's frame (lever arm
-    and rotation), its constant biases, and the phase of its samples after the first
-    IMU's (s), on the first IMU's clock and rate."""
+    and rotation), its constant biases, the phase of its samples after the first IMU's
+    (s) at the first IMU's rate, and its clock's ``time_offset`` d (s): a sample taken
+    at the first IMU's time t is stamped t − d (stamp + d is the first IMU's time)."""
 
     imu0_from_imu: SE3
     gyro_bias: Any = (0.0, 0.0, 0.0)
     accel_bias: Any = (0.0, 0.0, 0.0)
     phase: float = 0.0
     name: str = ""
+    time_offset: float = 0.0
 
 
 @dataclass
@@ -207,8 +209,10 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
             f = SO3(q).R.T @ (a - 9.81 * g_dir) + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
             g_k.append(R_k.T @ w + np.asarray(extra.gyro_bias, float) + rng.normal(0, gyro_sigma, 3))
             a_k.append(R_k.T @ f + np.asarray(extra.accel_bias, float) + rng.normal(0, accel_sigma, 3))
-        more_imus.append(ImuSamples(t_k, np.array(g_k), np.array(a_k), extra.name or f"imu{i + 1}"))
+        more_imus.append(ImuSamples(t_k - extra.time_offset, np.array(g_k), np.array(a_k),
+                                    extra.name or f"imu{i + 1}"))
     truth["imu0_from_imus"] = [SE3(), *(x.imu0_from_imu for x in other_imus)]
+    truth["imu_time_offsets"] = [0.0, *(x.time_offset for x in other_imus)]
     data = CameraImuData(frame_t, corners, imu_t, np.array(gyro), np.array(accel), others,
                          other_imus=more_imus)
     return data, truth, K

@@ -24,9 +24,22 @@ struct ImuSample {
   // The spline's quantities at the sample (any pointer may be null).
   template <typename T>
   void Evaluate(const T* k0, const T* k1, const T* k2, const T* k3, T* q, T* a, T* omega) const {
+    EvaluateAt(T(u), k0, k1, k2, k3, q, a, omega);
+  }
+
+  template <typename T>
+  void EvaluateAt(const T& at, const T* k0, const T* k1, const T* k2, const T* k3, T* q, T* a,
+                  T* omega, T* alpha = nullptr) const {
     const T* knots[4] = {k0, k1, k2, k3};
-    spline::Evaluate(knots, T(u), dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr), a,
-                     omega);
+    spline::Evaluate(knots, at, dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr), a, omega,
+                     alpha);
+  }
+
+  // u of the sample when its IMU's clock is off the body's by d (the sample's body time is
+  // its own + d), u having been computed with the offset d0.
+  template <typename T>
+  T Shifted(const T* d, double d0) const {
+    return T(u) + (d[0] - T(d0)) / T(dt);
   }
 
   // The specific force in the body frame, Rᵀ (a − |g| ĝ), from the pose's quaternion q
@@ -84,37 +97,62 @@ class AccelFunctor {
 
 // Another IMU on the rig, at body_from_imu = [r, q_k] (the body IMU's frame):
 // it turns with the body and feels, besides the body's specific force, the
-// tangential and centripetal acceleration of its lever arm r.
+// tangential and centripetal acceleration of its lever arm r. With a time-offset
+// block d (R¹) its samples are read at body time t + d (the operator with `d`).
 class OffsetGyroFunctor {
  public:
-  explicit OffsetGyroFunctor(ImuSample s) : s_(std::move(s)) {}
+  OffsetGyroFunctor(ImuSample s, double d0) : s_(std::move(s)), d0_(d0) {}
 
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
                   const T* bias, T* r) const {
+    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, r);
+  }
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, const T* d, T* r) const {
+    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, r);
+  }
+
+ private:
+  template <typename T>
+  bool Residual(const T& u, const T* k0, const T* k1, const T* k2, const T* k3,
+                const T* body_from_imu, const T* bias, T* r) const {
     T omega[3], q_inv[4], omega_k[3];
-    s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
+    s_.EvaluateAt(u, k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
     QuatConjugate(body_from_imu + 3, q_inv);
     QuatRotatePoint(q_inv, omega, omega_k);
     s_.Residual(omega_k, bias, r);
     return true;
   }
 
- private:
   ImuSample s_;
+  double d0_;
 };
 
 class OffsetAccelFunctor {
  public:
-  OffsetAccelFunctor(ImuSample s, double g) : s_(std::move(s)), g_(g) {}
+  OffsetAccelFunctor(ImuSample s, double g, double d0) : s_(std::move(s)), g_(g), d0_(d0) {}
 
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
                   const T* bias, const T* gravity_dir, T* r) const {
-    const T* knots[4] = {k0, k1, k2, k3};
+    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, r);
+  }
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, const T* gravity_dir, const T* d, T* r) const {
+    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, r);
+  }
+
+ private:
+  template <typename T>
+  bool Residual(const T& u, const T* k0, const T* k1, const T* k2, const T* k3,
+                const T* body_from_imu, const T* bias, const T* gravity_dir, T* r) const {
     T q[4], a[3], omega[3], alpha[3];
-    spline::Evaluate(knots, T(s_.u), s_.dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr),
-                     a, omega, alpha);
+    s_.EvaluateAt(u, k0, k1, k2, k3, q, a, omega, alpha);
     T f[3];
     ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
     // + α × r + ω × (ω × r), body frame
@@ -132,7 +170,6 @@ class OffsetAccelFunctor {
     return true;
   }
 
- private:
   template <typename T>
   static void Cross(const T* x, const T* y, T* out) {
     out[0] = x[1] * y[2] - x[2] * y[1];
@@ -142,6 +179,7 @@ class OffsetAccelFunctor {
 
   ImuSample s_;
   double g_;
+  double d0_;
 };
 
 // kRolling: one more block, the line delay ℓ (s per image row): the corner's row v
@@ -231,26 +269,41 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
 
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
                                                                 const Eigen::Vector3d& z,
-                                                                const NoiseModel& noise) {
+                                                                const NoiseModel& noise,
+                                                                bool time_offset, double d0) {
   CheckTime(u, dt, "spline gyro factor of another IMU");
-  BOXPLUS_CHECK(z.allFinite(), "spline gyro factor of another IMU: non-finite reading");
+  BOXPLUS_CHECK(z.allFinite() && std::isfinite(d0),
+                "spline gyro factor of another IMU: non-finite reading or offset");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline gyro factor of another IMU");
+  auto* f = new OffsetGyroFunctor(ImuSample{u, dt, z, W}, d0);
+  if (time_offset) {
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 1>>(
+        f);
+  }
   return std::make_shared<
-      ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3>>(
-      new OffsetGyroFunctor(ImuSample{u, dt, z, W}));
+      ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3>>(f);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(double u, double dt,
                                                                  const Eigen::Vector3d& z,
                                                                  const NoiseModel& noise,
-                                                                 double gravity_magnitude) {
+                                                                 double gravity_magnitude,
+                                                                 bool time_offset, double d0) {
   CheckTime(u, dt, "spline accelerometer factor of another IMU");
-  BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0,
-                "spline accelerometer factor of another IMU: non-finite reading or |g| <= 0");
+  BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0 &&
+                    std::isfinite(d0),
+                "spline accelerometer factor of another IMU: non-finite reading or offset, or "
+                "|g| <= 0");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor of another IMU");
+  auto* f = new OffsetAccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude, d0);
+  if (time_offset) {
+    return std::make_shared<ceres::AutoDiffCostFunction<OffsetAccelFunctor, 3, kKnot, kKnot, kKnot,
+                                                        kKnot, kKnot, 3, 3, 1>>(f);
+  }
   return std::make_shared<
       ceres::AutoDiffCostFunction<OffsetAccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
-      new OffsetAccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude));
+      f);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(

@@ -27,7 +27,9 @@
 //   accelerometer  r = W (R_kᵀ (R(t)ᵀ (a(t) − |g| ĝ) + α × r + ω × (ω × r)) + b_a − z)
 //   (the lever arm's tangential and centripetal acceleration: Furgale et al.'s
 //   multi-IMU extension in Kalibr, Rehder et al., ICRA 2016).
-//   blocks: 4 control points, body_from_imu (SE3 7), the bias (R³)[, ĝ (S² 3)].
+//   blocks: 4 control points, body_from_imu (SE3 7), the bias (R³)[, ĝ (S² 3)]
+//   [, d (R¹): its clock's offset, the sample read at body time t + d (Kalibr's
+//   per-IMU time offset)].
 // Times enter as u = (t − t_i)/Δt of the segment t_i the caller chose: for the
 // gyroscope and accelerometer t is a sample's IMU time; for a reprojection,
 // `t_rel` = t_c − t_i and u = (t_rel + d)/Δt, so d moves u (extrapolating
@@ -56,14 +58,17 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
                                                            const NoiseModel& noise,
                                                            double gravity_magnitude = 9.81);
 
+// time_offset: one more block, the other IMU's time offset d (R¹; the sample's body
+// time is its own + d), and u was computed with d = d0: u(d) = u + (d − d0)/Δt.
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
                                                                 const Eigen::Vector3d& z,
-                                                                const NoiseModel& noise);
+                                                                const NoiseModel& noise,
+                                                                bool time_offset = false,
+                                                                double d0 = 0.0);
 
-std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(double u, double dt,
-                                                                 const Eigen::Vector3d& z,
-                                                                 const NoiseModel& noise,
-                                                                 double gravity_magnitude = 9.81);
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(
+    double u, double dt, const Eigen::Vector3d& z, const NoiseModel& noise,
+    double gravity_magnitude = 9.81, bool time_offset = false, double d0 = 0.0);
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
     const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
