@@ -547,3 +547,23 @@ def test_damaged_bags_and_a_missing_rosbags_are_named(recording, tmp_path, monke
               str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--quiet",
               "--out", str(tmp_path / "o")])
     assert stop.value.code == 2
+
+
+def test_the_recording_may_follow_an_option_of_several_values(tmp_path, capsys):
+    """``--cam cam0 cam1 recording/``: argparse gives the recording to --cam; the command
+    takes it back (the last word, a folder or bag on disk), and says what is missing
+    when there is none."""
+    from boxplus.calib.camera_imu_cli import _parse
+
+    rec = tmp_path / "rec"
+    rec.mkdir()
+    base = ["--intrinsics", "c.yml", "--target", "t.yaml"]
+    args = _parse([*base, "--cam", "cam0", "cam1", str(rec)])
+    assert args.recording == str(rec) and args.cam == ["cam0", "cam1"]
+    args = _parse([*base, "--imu", "imu.yaml", str(rec)])
+    assert args.recording == str(rec) and args.imu == ["imu.yaml"]
+    args = _parse([str(rec), *base, "--cam", "cam0", "cam1"])  # the usual order is untouched
+    assert args.recording == str(rec) and args.cam == ["cam0", "cam1"]
+    with pytest.raises(SystemExit):
+        _parse([*base, "--cam", "cam0", "cam1"])  # cam1 is no folder on disk
+    assert "the recording (an EuRoC folder, a bag or an MCAP file) is missing" in capsys.readouterr().err

@@ -52,9 +52,11 @@ def _parser() -> argparse.ArgumentParser:
                     "bag or an MCAP file.",
         epilog="Example: boxplus-camera-imu recording/ --intrinsics calibration.yml "
                "--target target.yaml --imu imu.yaml --out result/")
-    ap.add_argument("recording", help="an EuRoC/ASL folder (FOLDER[/mav0]/cam0/data.csv, "
-                                      "cam0/data/*.png, imu0/data.csv; timestamps in ns), a ROS 1 "
-                                      "bag (*.bag), a ROS 2 bag folder or an MCAP file")
+    ap.add_argument("recording", nargs="?",
+                    help="an EuRoC/ASL folder (FOLDER[/mav0]/cam0/data.csv, cam0/data/*.png, "
+                         "imu0/data.csv; timestamps in ns), a ROS 1 bag (*.bag), a ROS 2 bag "
+                         "folder or an MCAP file (it may also come last, after an option that "
+                         "takes several values)")
     ap.add_argument("--intrinsics", required=True, metavar="FILE",
                     help="the camera's calibration: OpenCV YAML (boxplus-calib), Kalibr "
                          "camchain or ROS camera_info")
@@ -303,8 +305,32 @@ def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[f
     return doc
 
 
+# the options that take several values: argparse gives them a recording written after them
+_LISTS = ("camera_name", "imu", "cam", "imu_folder", "image_topic", "imu_topic")
+
+
+def _parse(argv: list[str] | None) -> argparse.Namespace:
+    """The arguments, with the recording taken back from a list option that swallowed it
+    (``--cam cam0 cam1 recording/``): the last value of such an option that is a bag or a
+    folder on disk, as the last word of the command line."""
+    ap = _parser()
+    args = ap.parse_args(argv)
+    if args.recording is not None:
+        return args
+    words = list(sys.argv[1:] if argv is None else argv)
+    last = words[-1] if words else None
+    for name in _LISTS:
+        values = getattr(args, name)
+        if (last is not None and isinstance(values, list) and len(values) > 1 and values[-1] == last
+                and Path(last).exists() and not Path(last).suffix == ".yaml"):
+            args.recording = values.pop()
+            return args
+    ap.error("the recording (an EuRoC folder, a bag or an MCAP file) is missing")
+    raise AssertionError  # ap.error exits
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
+    args = _parse(argv)
     from boxplus.calib import io
     from boxplus.calib.bags import is_bag, read_bag
     from boxplus.calib.camera_imu import calibrate_camera_imu
