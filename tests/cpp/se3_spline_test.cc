@@ -1,6 +1,8 @@
 // The R³ × SO(3) spline (se3_spline.h) against closed forms and central
 // differences, and the spline terms (spline_terms.h) at the truth.
 #include <random>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -45,6 +47,23 @@ std::vector<Knot> RandomKnots(std::mt19937& rng) {
 }
 
 // v, a and ω are the derivatives of p and R: central differences in time.
+// The Jacobian of a cost's residuals in its last block, a scalar, by autodiff and by a
+// central difference of step h: (analytic, numeric).
+template <int kRows>
+std::pair<Eigen::Matrix<double, kRows, 1>, Eigen::Matrix<double, kRows, 1>> LastScalarJacobian(
+    const ceres::CostFunction& f, std::vector<const double*> blocks, double h) {
+  Eigen::Matrix<double, kRows, 1> J, r, r_plus, r_minus;
+  std::vector<double*> jacobians(blocks.size(), nullptr);
+  jacobians.back() = J.data();
+  EXPECT_TRUE(f.Evaluate(blocks.data(), r.data(), jacobians.data()));
+  const double x = *blocks.back(), plus = x + h, minus = x - h;
+  blocks.back() = &plus;
+  EXPECT_TRUE(f.Evaluate(blocks.data(), r_plus.data(), nullptr));
+  blocks.back() = &minus;
+  EXPECT_TRUE(f.Evaluate(blocks.data(), r_minus.data(), nullptr));
+  return {J, (r_plus - r_minus) / (2 * h)};
+}
+
 TEST(Se3Spline, DerivativesMatchCentralDifferences) {
   std::mt19937 rng(5);
   const double dt = 0.1, h = 1e-5;
@@ -158,18 +177,8 @@ TEST(Se3Spline, TermsVanishAtTheTruth) {
   ASSERT_TRUE(rs->Evaluate(rb.data(), r2.data(), nullptr));
   EXPECT_LT(r2.norm(), 1e-7);
   // its Jacobian in the line delay against a central difference
-  Eigen::Matrix<double, 2, 1> J_ell;
-  std::vector<double*> jacobians(rb.size(), nullptr);
-  jacobians.back() = J_ell.data();
-  ASSERT_TRUE(rs->Evaluate(rb.data(), r2.data(), jacobians.data()));
-  const double h = 1e-8;
-  Eigen::Vector2d r_plus, r_minus;
-  const double ell_plus = ell + h, ell_minus = ell - h;
-  rb.back() = &ell_plus;
-  ASSERT_TRUE(rs->Evaluate(rb.data(), r_plus.data(), nullptr));
-  rb.back() = &ell_minus;
-  ASSERT_TRUE(rs->Evaluate(rb.data(), r_minus.data(), nullptr));
-  EXPECT_LT((J_ell - (r_plus - r_minus) / (2 * h)).norm(), 1e-4 * J_ell.norm() + 1e-6);
+  const auto [J_ell, numeric_ell] = LastScalarJacobian<2>(*rs, rb, 1e-8);
+  EXPECT_LT((J_ell - numeric_ell).norm(), 1e-4 * J_ell.norm() + 1e-6);
   EXPECT_GT(J_ell.norm(), 1.0);
 }
 
@@ -230,16 +239,8 @@ TEST(Se3Spline, AnotherImuFeelsItsLeverArm) {
     db.push_back(&d);
     ASSERT_TRUE(f->Evaluate(db.data(), r.data(), nullptr));
     EXPECT_LT(r.norm(), 1e-4 * (1 + f_k.norm())) << (is_gyro ? "gyro" : "accel");
-    Eigen::Vector3d J_d, r_plus, r_minus;
-    std::vector<double*> jac(db.size(), nullptr);
-    jac.back() = J_d.data();
-    ASSERT_TRUE(f->Evaluate(db.data(), r.data(), jac.data()));
-    const double step = 1e-7, d_plus = d + step, d_minus = d - step;
-    db.back() = &d_plus;
-    ASSERT_TRUE(f->Evaluate(db.data(), r_plus.data(), nullptr));
-    db.back() = &d_minus;
-    ASSERT_TRUE(f->Evaluate(db.data(), r_minus.data(), nullptr));
-    EXPECT_LT((J_d - (r_plus - r_minus) / (2 * step)).norm(), 1e-4 * J_d.norm() + 1e-6);
+    const auto [J_d, numeric_d] = LastScalarJacobian<3>(*f, db, 1e-7);
+    EXPECT_LT((J_d - numeric_d).norm(), 1e-4 * J_d.norm() + 1e-6);
     EXPECT_GT(J_d.norm(), 0.1);
   }
 }

@@ -231,8 +231,8 @@ def _assemble(obs: Sequence[_Obs], cams: Sequence[str], models: dict[str, str],
     """The board problem of a rig: intrinsics per camera, the reference camera's
     pose per view (world = the board), cam_from_ref per other camera; values
     from ``prev`` {variable name: value} where given (a re-solve); the distortion
-    prior of :mod:`boxplus.calib.regularize` on every estimated camera when
-    ``regularize`` (True: its default width, or the width)."""
+    prior of :mod:`boxplus.calib.regularize` on the estimated cameras that
+    ``regularize`` selects (:func:`_prior_width`)."""
     ref = cams[0]
     o = _problem.OptimizationProblem()
     ids: dict[str, int] = {}
