@@ -1755,17 +1755,17 @@ def solver_option_names() -> list[str]:
     """
     The settable fields of SolverOptions.
     """
-def spline_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81) -> Factor:
+def spline_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81, intrinsics: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """
-    r = W (R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of gravity in the world frame); see factors/imu/spline_terms.h.
+    r = W (M R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of gravity in the world frame), M as spline_gyro_factor's; see factors/imu/spline_terms.h.
     """
 def spline_evaluate(knots: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 7]"], u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]]:
     """
     (p, q, v, a, ω_body, α_body) of the R³ × SO(3) cubic B-spline segment whose 4 control points are the rows [p, q] of knots, at u (see factors/imu/se3_spline.h).
     """
-def spline_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel) -> Factor:
+def spline_gyro_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, intrinsics: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """
-    r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.
+    r = W (M ω_imu(t) + b_g − z), M the scale and misalignment of the Rn(6) variable intrinsics (identity without); see factors/imu/spline_terms.h.
     """
 def spline_offset_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], body_from_imu: typing.SupportsInt | typing.SupportsIndex, bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81, time_offset: typing.SupportsInt | typing.SupportsIndex | None = None, d0: typing.SupportsFloat | typing.SupportsIndex = 0.0) -> Factor:
     """

@@ -137,6 +137,28 @@ TEST(Se3Spline, TermsVanishAtTheTruth) {
   ASSERT_TRUE(accel->Evaluate(ab.data(), r3.data(), nullptr));
   EXPECT_LT(r3.norm(), 1e-9);
 
+  // With the IMU's scale and misalignment M (lower triangular, [s_x, s_y, s_z, m_yx,
+  // m_zx, m_zy]): the readings M ω + b_g and M f + b_a are matched at the truth.
+  const Eigen::Matrix<double, 6, 1> m_vec =
+      (Eigen::Matrix<double, 6, 1>() << 1.02, 0.97, 1.01, 0.004, -0.006, 0.003).finished();
+  Eigen::Matrix3d M;
+  M << m_vec[0], 0, 0, m_vec[3], m_vec[1], 0, m_vec[4], m_vec[5], m_vec[2];
+  auto gyro_m = MakeSplineGyroFactor(u, dt, M * s.w + bg, NoiseModel::Isotropic(3, 0.01), true);
+  gb.push_back(m_vec.data());
+  ASSERT_TRUE(gyro_m->Evaluate(gb.data(), r3.data(), nullptr));
+  EXPECT_LT(r3.norm(), 1e-9);
+  auto accel_m =
+      MakeSplineAccelFactor(u, dt, M * f + ba, NoiseModel::Isotropic(3, 0.1), 9.81, true);
+  ab.push_back(m_vec.data());
+  ASSERT_TRUE(accel_m->Evaluate(ab.data(), r3.data(), nullptr));
+  EXPECT_LT(r3.norm(), 1e-9);
+  // with the identity M the prediction is the plain ω + b_g: r = W (ω − M ω), W = 1/0.01
+  const Eigen::Matrix<double, 6, 1> identity =
+      (Eigen::Matrix<double, 6, 1>() << 1, 1, 1, 0, 0, 0).finished();
+  gb.back() = identity.data();
+  ASSERT_TRUE(gyro_m->Evaluate(gb.data(), r3.data(), nullptr));
+  EXPECT_LT((r3 - 100.0 * (s.w - M * s.w)).norm(), 1e-9);
+
   // A camera 3 cm from the IMU, a time offset of 4 ms: the pixel of a point seen
   // at camera time t_c is the projection at IMU time t_c + d.
   const SE3 imu_from_cam(SO3::Exp(Eigen::Vector3d(0.01, 0.02, 1.5)),

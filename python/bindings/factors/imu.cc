@@ -53,28 +53,34 @@ void RegisterImuFactors(py::module_& m) {
   m.def(
       "spline_gyro_factor",
       [](const std::vector<int>& knots, int bias, double u, double dt, const Eigen::Vector3d& z,
-         const NoiseModel& noise) {
+         const NoiseModel& noise, std::optional<int> intrinsics) {
         if (knots.size() != 4) throw py::value_error("spline_gyro_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(bias);
-        return Factor{MakeSplineGyroFactor(u, dt, z, noise), ids, noise};
+        if (intrinsics) ids.push_back(*intrinsics);
+        return Factor{MakeSplineGyroFactor(u, dt, z, noise, intrinsics.has_value()), ids, noise};
       },
       py::arg("knots"), py::arg("bias"), py::arg("u"), py::arg("dt"), py::arg("z"),
-      py::arg("noise"), "r = W (ω_imu(t) + b_g − z); see factors/imu/spline_terms.h.");
+      py::arg("noise"), py::arg("intrinsics") = py::none(),
+      "r = W (M ω_imu(t) + b_g − z), M the scale and misalignment of the Rn(6) variable "
+      "intrinsics (identity without); see factors/imu/spline_terms.h.");
   m.def(
       "spline_accel_factor",
       [](const std::vector<int>& knots, int bias, int gravity, double u, double dt,
-         const Eigen::Vector3d& z, const NoiseModel& noise, double g) {
+         const Eigen::Vector3d& z, const NoiseModel& noise, double g,
+         std::optional<int> intrinsics) {
         if (knots.size() != 4) throw py::value_error("spline_accel_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(bias);
         ids.push_back(gravity);
-        return Factor{MakeSplineAccelFactor(u, dt, z, noise, g), ids, noise};
+        if (intrinsics) ids.push_back(*intrinsics);
+        return Factor{MakeSplineAccelFactor(u, dt, z, noise, g, intrinsics.has_value()), ids,
+                      noise};
       },
       py::arg("knots"), py::arg("bias"), py::arg("gravity"), py::arg("u"), py::arg("dt"),
-      py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
-      "r = W (R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of "
-      "gravity in the world frame); see factors/imu/spline_terms.h.");
+      py::arg("z"), py::arg("noise"), py::arg("g") = 9.81, py::arg("intrinsics") = py::none(),
+      "r = W (M R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of "
+      "gravity in the world frame), M as spline_gyro_factor's; see factors/imu/spline_terms.h.");
   m.def(
       "spline_offset_gyro_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, double u, double dt,

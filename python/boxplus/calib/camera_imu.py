@@ -67,7 +67,7 @@ from boxplus.noise import NoiseModel
 from boxplus.problem import OptimizationProblem
 
 __all__ = ["CameraFrames", "CameraImuCalibration", "CameraImuData", "ImuSamples", "calibrate_camera_imu",
-           "spline_segment"]
+           "intrinsics_matrix", "spline_segment"]
 
 
 @dataclass
@@ -158,6 +158,10 @@ class CameraImuCalibration:
     # per IMU: its clock's offset d (s; its stamp + d is the first IMU's time; 0 for the
     # first, and for all with imu_time_offsets=False)
     imu_time_offsets: list[float] = field(default_factory=list)
+    # the first IMU's scale and misalignment (imu_intrinsics=True; 3 × 3 lower triangular,
+    # the reading M x + b), None when not estimated
+    gyro_intrinsics: np.ndarray | None = None
+    accel_intrinsics: np.ndarray | None = None
 
     def cam_from_cam(self, c: int, ref: int = 0) -> SE3:
         """cam_c_from_cam_ref: camera ``ref``'s coordinates into camera c's (Kalibr's
@@ -193,6 +197,7 @@ class CameraImuCalibration:
         names += [f"{v}[{c}]" for c in range(1, len(self.imu_from_cams))
                   for v in ("imu_from_cam", "time_offset")]
         names += [f"line_delay[{c}]" for c, ell in enumerate(self.line_delays) if ell is not None]
+        names += [v for v in ("gyro_intrinsics", "accel_intrinsics") if v in self.ids]
         names += [f"{v}[{k}]" for k in range(1, len(self.imu0_from_imus))
                   for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias", "imu_time_offset")
                   if f"{v}[{k}]" in self.ids]
@@ -303,7 +308,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                          rolling_shutter: bool | list[bool] = False,
                          line_delay: float | list[float] = 0.0,
                          other_imu_sigmas: list[tuple[float, float]] | None = None,
-                         imu_time_offsets: bool = True) -> CameraImuCalibration:
+                         imu_time_offsets: bool = True,
+                         imu_intrinsics: bool = False) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
 
@@ -325,7 +331,11 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     first IMU's. Each IMU's clock offset d_k (its stamp + d_k is the first IMU's time,
     Kalibr's per-IMU ``time_offset``) is estimated, started from the alignment of its
     gyroscope with the first one's over ±``max_offset``; ``imu_time_offsets=False``
-    when all IMUs share the first one's clock.
+    when all IMUs share the first one's clock. ``imu_intrinsics``: the first IMU's
+    gyroscope and accelerometer also get a scale and misalignment each (Kalibr's
+    scale-misalignment model: the reading M x + b, M lower triangular, started at the
+    identity; ``cal.gyro_intrinsics``, ``cal.accel_intrinsics``, ids "gyro_intrinsics",
+    "accel_intrinsics" labelled s_x s_y s_z m_yx m_zx m_zy).
     ``gyro_sigma``/``accel_sigma``: the per-sample noise
     (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
     (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
@@ -365,7 +375,7 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
          accel_random_walk: float | None, bias_spacing: float, common_clock: bool,
          rolling_shutter: bool | list[bool], line_delay: float | list[float],
          other_imu_sigmas: list[tuple[float, float]] | None, imu_time_offsets: bool = True,
-         offsets_start: list[float] | None = None
+         imu_intrinsics: bool = False, offsets_start: list[float] | None = None
          ) -> CameraImuCalibration:
     """One fit at one knot spacing (calibrate_camera_imu); ``offsets_start``: the cameras'
     time offsets to start from instead of the angular-velocity alignment's."""
@@ -491,16 +501,21 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
             if c == 0:
                 ids["line_delay"] = ids["line_delay[0]"]
     knots = [ids[f"knot{j}"] for j in range(n_knots)]
+    if imu_intrinsics:
+        for kind in ("gyro_intrinsics", "accel_intrinsics"):
+            ids[kind] = o.add_random_var(Rn(_IDENTITY_INTRINSICS), name=kind, labels=_INTRINSICS_LABELS)
     gn = NoiseModel.isotropic(3, gyro_sigma)
     an = NoiseModel.isotropic(3, accel_sigma)
     pn = NoiseModel.isotropic(2, pixel_sigma)
     for t, w, a, s in zip(t_in, gyro[inside], accel[inside], segment):
         i, u = spline_segment(t, t0, dt, n_knots)
         kn = knots[i:i + 4]
-        o.add_factor(_core.spline_gyro_factor(kn, ids[f"gyro_bias[{s}]"], u, dt, w, gn),
+        o.add_factor(_core.spline_gyro_factor(kn, ids[f"gyro_bias[{s}]"], u, dt, w, gn,
+                                              ids.get("gyro_intrinsics")),
                      group="gyroscope")
         o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
-                                               gravity_magnitude), group="accelerometer")
+                                               gravity_magnitude, ids.get("accel_intrinsics")),
+                     group="accelerometer")
     imus = _add_other_imus(o, ids, data, knots, t0, dt, bias_times, walks, gyro_sigma, accel_sigma,
                            other_imu_sigmas, gravity_magnitude, t_imu, gyro,
                            max_offset if imu_time_offsets else None)
@@ -523,7 +538,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
     held = sorted({ids[f"{v}[{c}]"] for c in range(n_cam) for v in ("imu_from_cam", "time_offset")}
                   | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]}
                   | {ids[f"{v}[{k}]"] for k in range(1, len(imus) + 1)
-                     for v in ("imu0_from_imu", "imu_time_offset") if f"{v}[{k}]" in ids})
+                     for v in ("imu0_from_imu", "imu_time_offset") if f"{v}[{k}]" in ids}
+                  | {ids[v] for v in ("gyro_intrinsics", "accel_intrinsics") if v in ids})
     for vid in held:
         o.fix(vid)
     o.solve(method="auto", max_iterations=50, check_determined=False)
@@ -562,7 +578,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
         [_bias_means(o, ids, f"imu{k}." if k else "", "gyro_bias", n_seg) for k in range(len(imus) + 1)],
         [_bias_means(o, ids, f"imu{k}." if k else "", "accel_bias", n_seg) for k in range(len(imus) + 1)],
         [0.0, *(float(o[ids[f"imu_time_offset[{k}]"]].vec[0]) if f"imu_time_offset[{k}]" in ids else 0.0
-                for k in range(1, len(imus) + 1))])
+                for k in range(1, len(imus) + 1))],
+        *(intrinsics_matrix(o[ids[v]].vec) if v in ids else None for v in ("gyro_intrinsics", "accel_intrinsics")))
 
 
 # The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on
@@ -725,3 +742,15 @@ def bias_walk(b0: Any, b1: Any) -> np.ndarray:
     """The changes of biases from one segment to the next (the random-walk terms; batches
     of Rn, one row per pair)."""
     return b1.vec - b0.vec
+
+
+# The scale-misalignment model's 6 numbers (spline_terms.h): the identity, and their names.
+_IDENTITY_INTRINSICS = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+_INTRINSICS_LABELS = ["s_x", "s_y", "s_z", "m_yx", "m_zx", "m_zy"]
+
+
+def intrinsics_matrix(m: Any) -> np.ndarray:
+    """The lower-triangular M of an IMU's [s_x, s_y, s_z, m_yx, m_zx, m_zy] (the reading
+    is M x + b)."""
+    s_x, s_y, s_z, m_yx, m_zx, m_zy = np.asarray(m, dtype=float).ravel()
+    return np.array([[s_x, 0.0, 0.0], [m_yx, s_y, 0.0], [m_zx, m_zy, s_z]])

@@ -60,6 +60,18 @@ struct ImuSample {
   }
 };
 
+// The IMU's own scale and misalignment (Kalibr's "scale-misalignment" model), a
+// 6-vector [s_x, s_y, s_z, m_yx, m_zx, m_zy] read as the lower-triangular matrix
+//   M = [[s_x, 0, 0], [m_yx, s_y, 0], [m_zx, m_zy, s_z]],
+// the reading M x + b of the true x: triangular, since a full M would trade its
+// rotation part with imu_from_cam's.
+template <typename T>
+void ApplyIntrinsics(const T* m, const T* x, T* out) {
+  out[0] = m[0] * x[0];
+  out[1] = m[3] * x[0] + m[1] * x[1];
+  out[2] = m[4] * x[0] + m[5] * x[1] + m[2] * x[2];
+}
+
 class GyroFunctor {
  public:
   explicit GyroFunctor(ImuSample s) : s_(std::move(s)) {}
@@ -69,6 +81,17 @@ class GyroFunctor {
     T omega[3];
     s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
     s_.Residual(omega, bias, r);
+    return true;
+  }
+
+  // with the gyroscope's scale and misalignment M (ApplyIntrinsics)
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias, const T* m,
+                  T* r) const {
+    T omega[3], read[3];
+    s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
+    ApplyIntrinsics(m, omega, read);
+    s_.Residual(read, bias, r);
     return true;
   }
 
@@ -83,14 +106,31 @@ class AccelFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
                   const T* gravity_dir, T* r) const {
-    T q[4], a[3], f[3];
-    s_.Evaluate(k0, k1, k2, k3, q, a, static_cast<T*>(nullptr));
-    ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
+    T f[3];
+    Force(k0, k1, k2, k3, gravity_dir, f);
     s_.Residual(f, bias, r);
     return true;
   }
 
+  // with the accelerometer's scale and misalignment M (ApplyIntrinsics)
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
+                  const T* gravity_dir, const T* m, T* r) const {
+    T f[3], read[3];
+    Force(k0, k1, k2, k3, gravity_dir, f);
+    ApplyIntrinsics(m, f, read);
+    s_.Residual(read, bias, r);
+    return true;
+  }
+
  private:
+  template <typename T>
+  void Force(const T* k0, const T* k1, const T* k2, const T* k3, const T* gravity_dir, T* f) const {
+    T q[4], a[3];
+    s_.Evaluate(k0, k1, k2, k3, q, a, static_cast<T*>(nullptr));
+    ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
+  }
+
   ImuSample s_;
   double g_;
 };
@@ -245,26 +285,36 @@ void CheckTime(double u, double dt, const char* what) {
 
 std::shared_ptr<ceres::CostFunction> MakeSplineGyroFactor(double u, double dt,
                                                           const Eigen::Vector3d& z,
-                                                          const NoiseModel& noise) {
+                                                          const NoiseModel& noise,
+                                                          bool intrinsics) {
   CheckTime(u, dt, "spline gyro factor");
   BOXPLUS_CHECK(z.allFinite(), "spline gyro factor: non-finite reading");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline gyro factor");
+  auto* f = new GyroFunctor(ImuSample{u, dt, z, W});
+  if (intrinsics) {
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<GyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 6>>(f);
+  }
   return std::make_shared<
-      ceres::AutoDiffCostFunction<GyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3>>(
-      new GyroFunctor(ImuSample{u, dt, z, W}));
+      ceres::AutoDiffCostFunction<GyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3>>(f);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
                                                            const Eigen::Vector3d& z,
                                                            const NoiseModel& noise,
-                                                           double gravity_magnitude) {
+                                                           double gravity_magnitude,
+                                                           bool intrinsics) {
   CheckTime(u, dt, "spline accelerometer factor");
   BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0,
                 "spline accelerometer factor: non-finite reading or |g| <= 0");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor");
+  auto* f = new AccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude);
+  if (intrinsics) {
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3, 6>>(f);
+  }
   return std::make_shared<
-      ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
-      new AccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude));
+      ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3>>(f);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,

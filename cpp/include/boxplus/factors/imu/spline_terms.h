@@ -3,12 +3,13 @@
 // after Furgale, Rehder & Siegwart (IROS 2013, eqs. 5–8).
 //
 // Gyroscope (3):      r = W (ω_imu(t) + b_g − z)
-//   blocks: the segment's 4 control points (SE3 7 each), b_g (R³).
+//   blocks: the segment's 4 control points (SE3 7 each), b_g (R³)[, M (R⁶): the
+//   reading M ω + b_g, M the gyroscope's scale and misalignment, below].
 // Accelerometer (3):  r = W (R(t)ᵀ (a(t) − |g| ĝ) + b_a − z)
 //   the specific force in the IMU frame; ĝ the direction of gravity in the
 //   world (target) frame, a unit vector (S² block), |g| a constant (m/s²): at
 //   rest the reading is −|g| R(t)ᵀ ĝ, "up".
-//   blocks: 4 control points, b_a (R³), ĝ (S² 3).
+//   blocks: 4 control points, b_a (R³), ĝ (S² 3)[, M (R⁶), as the gyroscope's].
 // Reprojection (2):   r = W (π(k, cam_from_world(t_c + d) · p_in_world) − z)
 //   a target corner seen by a camera at its own timestamp t_c; the IMU clock
 //   reads t_c + d (d the time offset, a 1-vector block), the camera's pose is
@@ -49,14 +50,19 @@
 
 namespace boxplus {
 
+// intrinsics: one more block, the IMU's scale and misalignment M (R⁶, [s_x, s_y, s_z,
+// m_yx, m_zx, m_zy], the lower-triangular M = [[s_x, 0, 0], [m_yx, s_y, 0], [m_zx, m_zy,
+// s_z]], Kalibr's scale-misalignment model): the reading is M ω + b_g, M f + b_a.
 std::shared_ptr<ceres::CostFunction> MakeSplineGyroFactor(double u, double dt,
                                                           const Eigen::Vector3d& z,
-                                                          const NoiseModel& noise);
+                                                          const NoiseModel& noise,
+                                                          bool intrinsics = false);
 
 std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
                                                            const Eigen::Vector3d& z,
                                                            const NoiseModel& noise,
-                                                           double gravity_magnitude = 9.81);
+                                                           double gravity_magnitude = 9.81,
+                                                           bool intrinsics = false);
 
 // time_offset: one more block, the other IMU's time offset d (R¹; the sample's body
 // time is its own + d), and u was computed with d = d0: u(d) = u + (d − d0)/Δt.
