@@ -1755,9 +1755,9 @@ def solver_option_names() -> list[str]:
     """
     The settable fields of SolverOptions.
     """
-def spline_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81, intrinsics: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
+def spline_accel_factor(knots: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], bias: typing.SupportsInt | typing.SupportsIndex, gravity: typing.SupportsInt | typing.SupportsIndex, u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex, z: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[3, 1]"], noise: NoiseModel, g: typing.SupportsFloat | typing.SupportsIndex = 9.81, intrinsics: typing.SupportsInt | typing.SupportsIndex | None = None, size_effect: typing.SupportsInt | typing.SupportsIndex | None = None) -> Factor:
     """
-    r = W (M R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of gravity in the world frame), M as spline_gyro_factor's; see factors/imu/spline_terms.h.
+    r = W (M R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of gravity in the world frame), M as spline_gyro_factor's; size_effect: an Rn(6) [r_y, r_z] of the y and z sensing elements; see factors/imu/spline_terms.h.
     """
 def spline_evaluate(knots: typing.Annotated[numpy.typing.ArrayLike, numpy.float64, "[4, 7]"], u: typing.SupportsFloat | typing.SupportsIndex, dt: typing.SupportsFloat | typing.SupportsIndex) -> tuple[typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[4, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"], typing.Annotated[numpy.typing.NDArray[numpy.float64], "[3, 1]"]]:
     """

@@ -67,20 +67,26 @@ void RegisterImuFactors(py::module_& m) {
   m.def(
       "spline_accel_factor",
       [](const std::vector<int>& knots, int bias, int gravity, double u, double dt,
-         const Eigen::Vector3d& z, const NoiseModel& noise, double g,
-         std::optional<int> intrinsics) {
+         const Eigen::Vector3d& z, const NoiseModel& noise, double g, std::optional<int> intrinsics,
+         std::optional<int> size_effect) {
         if (knots.size() != 4) throw py::value_error("spline_accel_factor: 4 control points");
+        if (size_effect && !intrinsics)
+          throw py::value_error("spline_accel_factor: size_effect needs intrinsics");
         std::vector<int> ids = knots;
         ids.push_back(bias);
         ids.push_back(gravity);
         if (intrinsics) ids.push_back(*intrinsics);
-        return Factor{MakeSplineAccelFactor(u, dt, z, noise, g, intrinsics.has_value()), ids,
-                      noise};
+        if (size_effect) ids.push_back(*size_effect);
+        return Factor{MakeSplineAccelFactor(u, dt, z, noise, g, intrinsics.has_value(),
+                                            size_effect.has_value()),
+                      ids, noise};
       },
       py::arg("knots"), py::arg("bias"), py::arg("gravity"), py::arg("u"), py::arg("dt"),
       py::arg("z"), py::arg("noise"), py::arg("g") = 9.81, py::arg("intrinsics") = py::none(),
+      py::arg("size_effect") = py::none(),
       "r = W (M R(t)ᵀ (a(t) − g ĝ) + b_a − z); gravity: an S2 variable ĝ (the direction of "
-      "gravity in the world frame), M as spline_gyro_factor's; see factors/imu/spline_terms.h.");
+      "gravity in the world frame), M as spline_gyro_factor's; size_effect: an Rn(6) [r_y, r_z] "
+      "of the y and z sensing elements; see factors/imu/spline_terms.h.");
   m.def(
       "spline_offset_gyro_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, double u, double dt,

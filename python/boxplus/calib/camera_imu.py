@@ -162,6 +162,8 @@ class CameraImuCalibration:
     # the reading M x + b), None when not estimated
     gyro_intrinsics: np.ndarray | None = None
     accel_intrinsics: np.ndarray | None = None
+    # the accelerometer's size effect (accel_size_effect=True): rows r_y, r_z (m)
+    accel_size_effect: np.ndarray | None = None
 
     def cam_from_cam(self, c: int, ref: int = 0) -> SE3:
         """cam_c_from_cam_ref: camera ``ref``'s coordinates into camera c's (Kalibr's
@@ -197,7 +199,7 @@ class CameraImuCalibration:
         names += [f"{v}[{c}]" for c in range(1, len(self.imu_from_cams))
                   for v in ("imu_from_cam", "time_offset")]
         names += [f"line_delay[{c}]" for c, ell in enumerate(self.line_delays) if ell is not None]
-        names += [v for v in ("gyro_intrinsics", "accel_intrinsics") if v in self.ids]
+        names += [v for v in ("gyro_intrinsics", "accel_intrinsics", "accel_size_effect") if v in self.ids]
         names += [f"{v}[{k}]" for k in range(1, len(self.imu0_from_imus))
                   for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias", "imu_time_offset")
                   if f"{v}[{k}]" in self.ids]
@@ -309,7 +311,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
                          line_delay: float | list[float] = 0.0,
                          other_imu_sigmas: list[tuple[float, float]] | None = None,
                          imu_time_offsets: bool = True,
-                         imu_intrinsics: bool = False) -> CameraImuCalibration:
+                         imu_intrinsics: bool = False,
+                         accel_size_effect: bool = False) -> CameraImuCalibration:
     """Calibrates imu_from_cam, the time offset d (IMU time = camera time + d), the
     gyroscope and accelerometer biases and gravity (module docstring).
 
@@ -335,7 +338,10 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     gyroscope and accelerometer also get a scale and misalignment each (Kalibr's
     scale-misalignment model: the reading M x + b, M lower triangular, started at the
     identity; ``cal.gyro_intrinsics``, ``cal.accel_intrinsics``, ids "gyro_intrinsics",
-    "accel_intrinsics" labelled s_x s_y s_z m_yx m_zx m_zy).
+    "accel_intrinsics" labelled s_x s_y s_z m_yx m_zx m_zy). ``accel_size_effect`` (with
+    ``imu_intrinsics``): the accelerometer's y and z sensing elements sit at r_y, r_z from
+    its x element (Kalibr's size effect; ``cal.accel_size_effect`` (2 × 3), id
+    "accel_size_effect"), each reading its own point's specific force.
     ``gyro_sigma``/``accel_sigma``: the per-sample noise
     (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
     (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
@@ -375,7 +381,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
          accel_random_walk: float | None, bias_spacing: float, common_clock: bool,
          rolling_shutter: bool | list[bool], line_delay: float | list[float],
          other_imu_sigmas: list[tuple[float, float]] | None, imu_time_offsets: bool = True,
-         imu_intrinsics: bool = False, offsets_start: list[float] | None = None
+         imu_intrinsics: bool = False, accel_size_effect: bool = False,
+         offsets_start: list[float] | None = None
          ) -> CameraImuCalibration:
     """One fit at one knot spacing (calibrate_camera_imu); ``offsets_start``: the cameras'
     time offsets to start from instead of the angular-velocity alignment's."""
@@ -501,9 +508,14 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
             if c == 0:
                 ids["line_delay"] = ids["line_delay[0]"]
     knots = [ids[f"knot{j}"] for j in range(n_knots)]
+    if accel_size_effect and not imu_intrinsics:
+        raise ValueError("calibrate_camera_imu: accel_size_effect needs imu_intrinsics=True")
     if imu_intrinsics:
         for kind in ("gyro_intrinsics", "accel_intrinsics"):
             ids[kind] = o.add_random_var(Rn(_IDENTITY_INTRINSICS), name=kind, labels=_INTRINSICS_LABELS)
+    if accel_size_effect:
+        ids["accel_size_effect"] = o.add_random_var(Rn(np.zeros(6)), name="accel_size_effect",
+                                                    labels=["r_y.x", "r_y.y", "r_y.z", "r_z.x", "r_z.y", "r_z.z"])
     gn = NoiseModel.isotropic(3, gyro_sigma)
     an = NoiseModel.isotropic(3, accel_sigma)
     pn = NoiseModel.isotropic(2, pixel_sigma)
@@ -514,7 +526,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
                                               ids.get("gyro_intrinsics")),
                      group="gyroscope")
         o.add_factor(_core.spline_accel_factor(kn, ids[f"accel_bias[{s}]"], ids["gravity"], u, dt, a, an,
-                                               gravity_magnitude, ids.get("accel_intrinsics")),
+                                               gravity_magnitude, ids.get("accel_intrinsics"),
+                                               ids.get("accel_size_effect")),
                      group="accelerometer")
     imus = _add_other_imus(o, ids, data, knots, t0, dt, bias_times, walks, gyro_sigma, accel_sigma,
                            other_imu_sigmas, gravity_magnitude, t_imu, gyro,
@@ -539,7 +552,7 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
                   | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]}
                   | {ids[f"{v}[{k}]"] for k in range(1, len(imus) + 1)
                      for v in ("imu0_from_imu", "imu_time_offset") if f"{v}[{k}]" in ids}
-                  | {ids[v] for v in ("gyro_intrinsics", "accel_intrinsics") if v in ids})
+                  | {ids[v] for v in ("gyro_intrinsics", "accel_intrinsics", "accel_size_effect") if v in ids})
     for vid in held:
         o.fix(vid)
     o.solve(method="auto", max_iterations=50, check_determined=False)
@@ -579,7 +592,9 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
         [_bias_means(o, ids, f"imu{k}." if k else "", "accel_bias", n_seg) for k in range(len(imus) + 1)],
         [0.0, *(float(o[ids[f"imu_time_offset[{k}]"]].vec[0]) if f"imu_time_offset[{k}]" in ids else 0.0
                 for k in range(1, len(imus) + 1))],
-        *(intrinsics_matrix(o[ids[v]].vec) if v in ids else None for v in ("gyro_intrinsics", "accel_intrinsics")))
+        gyro_intrinsics=intrinsics_matrix(o[ids["gyro_intrinsics"]].vec) if imu_intrinsics else None,
+        accel_intrinsics=intrinsics_matrix(o[ids["accel_intrinsics"]].vec) if imu_intrinsics else None,
+        accel_size_effect=o[ids["accel_size_effect"]].vec.reshape(2, 3) if accel_size_effect else None)
 
 
 # The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on

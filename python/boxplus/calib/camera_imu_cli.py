@@ -95,6 +95,9 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--imu-intrinsics", action="store_true",
                     help="estimate the first IMU's gyroscope and accelerometer scale and "
                          "misalignment too (Kalibr's scale-misalignment model)")
+    ap.add_argument("--accel-size-effect", action="store_true",
+                    help="with --imu-intrinsics: the accelerometer's y and z sensing elements' "
+                         "positions too (Kalibr's size effect)")
     ap.add_argument("--imus-common-clock", action="store_true",
                     help="the IMUs share the first one's clock: no time offset between IMUs "
                          "(default: each other IMU's offset is estimated)")
@@ -277,10 +280,12 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
          if len(cal.gyro_biases) > 1 else "biases: constant over the recording"),
         "gravity in the target frame (m/s²): " + " ".join(f"{v:+.4f}" for v in cal.gravity),
     ]
-    for kind, what in (("gyro_intrinsics", "gyroscope"), ("accel_intrinsics", "accelerometer")):
+    for kind, what in (("gyro_intrinsics", "gyroscope scale and misalignment (reading M x + b)"),
+                       ("accel_intrinsics", "accelerometer scale and misalignment (reading M x + b)"),
+                       ("accel_size_effect", "accelerometer size effect (y, z elements from x, m)")):
         if kind in cal.ids:
             values, std = cal.problem[cal.ids[kind]].vec, cal.std(kind)
-            lines.append(f"{what} scale and misalignment (reading M x + b; value ± σ): "
+            lines.append(f"{what}, value ± σ: "
                          + ", ".join(f"{lab} {v:.5f} ± {s:.5f}" for lab, v, s in
                                      zip(cal.problem.labels(cal.ids[kind]), values, std)))
     return "\n".join(lines)
@@ -392,6 +397,7 @@ def main(argv: list[str] | None = None) -> int:
                 gyro_random_walk=gyro_walk, accel_random_walk=accel_walk,
                 bias_spacing=args.bias_spacing, common_clock=args.common_clock,
                 imu_time_offsets=not args.imus_common_clock, imu_intrinsics=args.imu_intrinsics,
+                accel_size_effect=args.accel_size_effect,
                 rolling_shutter=args.rolling_shutter, line_delay=args.line_delay,
                 other_imu_sigmas=imu_sigmas[1:])
     except ValueError as e:

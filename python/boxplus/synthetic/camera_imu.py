@@ -65,7 +65,8 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                         other_cameras: Sequence[SimulatedCamera] = (), line_delay: float = 0.0,
                         other_imus: Sequence[SimulatedImu] = (), motion: str = "spline",
                         bandwidth: float = 2.0, rotation_scale: Any = (1.0, 1.0, 1.0),
-                        gyro_intrinsics: Any = None, accel_intrinsics: Any = None
+                        gyro_intrinsics: Any = None, accel_intrinsics: Any = None,
+                        accel_size_effect: Any = None
                         ) -> tuple[CameraImuData, dict[str, Any], np.ndarray]:
     """A camera and an IMU waved in front of a 7 × 6 target (6 cm squares): the IMU's
     true trajectory is a spline of smooth random control points (a rig swinging
@@ -100,7 +101,9 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     (``(1, 1, 0)``: no rotation about the optical axis), for recordings that leave a
     direction unexcited. ``gyro_intrinsics`` / ``accel_intrinsics`` (3 × 3, lower
     triangular: scale on the diagonal, misalignment below) make the first IMU read
-    M x + b instead of x + b (Kalibr's scale-misalignment model)."""
+    M x + b instead of x + b (Kalibr's scale-misalignment model); ``accel_size_effect``
+    (2 × 3: r_y, r_z) puts its accelerometer's y and z sensing elements there (from the x
+    element, the IMU's origin): each reads its own point's specific force."""
     K = np.array([460.0, 460.0, 320.0, 240.0])
     imu_from_cam = imu_from_cam or SE3(SO3.exp(np.array([0.02, -0.03, 1.57])), np.array([0.04, -0.01, 0.02]))
     target = np.array([[0.06 * c - 0.18, 0.06 * r - 0.15, 0.0] for r in range(6) for c in range(7)])
@@ -150,12 +153,17 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
         ba += accel_random_walk * np.cumsum(steps[1], axis=0)
     Mg = np.eye(3) if gyro_intrinsics is None else np.asarray(gyro_intrinsics, float)
     Ma = np.eye(3) if accel_intrinsics is None else np.asarray(accel_intrinsics, float)
+    sizes = None if accel_size_effect is None else np.asarray(accel_size_effect, float).reshape(2, 3)
     gyro, accel = [], []
     for k, t in enumerate(imu_t):
-        p, q, v, a, w, _ = state(t)
+        p, q, v, a, w, alpha = state(t)
         R = SO3(q).R
+        f = R.T @ (a - 9.81 * g_dir)
+        if sizes is not None:
+            for axis, r in ((1, sizes[0]), (2, sizes[1])):
+                f[axis] += (np.cross(alpha, r) + np.cross(w, np.cross(w, r)))[axis]
         gyro.append(Mg @ w + bg[k] + rng.normal(0, gyro_sigma, 3))
-        accel.append(Ma @ (R.T @ (a - 9.81 * g_dir)) + ba[k] + rng.normal(0, accel_sigma, 3))
+        accel.append(Ma @ f + ba[k] + rng.normal(0, accel_sigma, 3))
     def observe(ic: SE3, offset: float, k: np.ndarray, model: str, phase: float,
                 ell: float = 0.0) -> tuple:
         frame_t = np.arange(0.2 + phase, duration - 0.2, 1.0 / camera_rate)

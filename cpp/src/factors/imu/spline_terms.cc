@@ -123,7 +123,40 @@ class AccelFunctor {
     return true;
   }
 
+  // and the size effect: the y and z sensing elements sit at r_y, r_z (the block [r_y,
+  // r_z], m) from the x element, the IMU's origin, so each feels its own point's
+  // acceleration: f_i = e_iᵀ (f + α × r_i + ω × (ω × r_i)) (Kalibr's
+  // scale-misalignment-size-effect model)
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
+                  const T* gravity_dir, const T* m, const T* size, T* r) const {
+    const T* knots[4] = {k0, k1, k2, k3};
+    T q[4], a[3], omega[3], alpha[3], f[3];
+    spline::Evaluate(knots, T(s_.u), s_.dt, static_cast<T*>(nullptr), q, static_cast<T*>(nullptr),
+                     a, omega, alpha);
+    ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
+    for (int axis = 1; axis < 3; ++axis) {
+      const T* arm = size + 3 * (axis - 1);
+      T wxr[3], lever[3], axr[3];
+      Cross(omega, arm, wxr);
+      Cross(omega, wxr, lever);
+      Cross(alpha, arm, axr);
+      f[axis] += axr[axis] + lever[axis];
+    }
+    T read[3];
+    ApplyIntrinsics(m, f, read);
+    s_.Residual(read, bias, r);
+    return true;
+  }
+
  private:
+  template <typename T>
+  static void Cross(const T* x, const T* y, T* out) {
+    out[0] = x[1] * y[2] - x[2] * y[1];
+    out[1] = x[2] * y[0] - x[0] * y[2];
+    out[2] = x[0] * y[1] - x[1] * y[0];
+  }
+
   template <typename T>
   void Force(const T* k0, const T* k1, const T* k2, const T* k3, const T* gravity_dir, T* f) const {
     T q[4], a[3];
@@ -303,12 +336,18 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
                                                            const Eigen::Vector3d& z,
                                                            const NoiseModel& noise,
                                                            double gravity_magnitude,
-                                                           bool intrinsics) {
+                                                           bool intrinsics, bool size_effect) {
   CheckTime(u, dt, "spline accelerometer factor");
+  BOXPLUS_CHECK(intrinsics || !size_effect,
+                "spline accelerometer factor: the size effect comes with the intrinsics block");
   BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0,
                 "spline accelerometer factor: non-finite reading or |g| <= 0");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor");
   auto* f = new AccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude);
+  if (size_effect) {
+    return std::make_shared<
+        ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3, 6, 6>>(f);
+  }
   if (intrinsics) {
     return std::make_shared<
         ceres::AutoDiffCostFunction<AccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, 3, 3, 6>>(f);

@@ -9,7 +9,9 @@
 //   the specific force in the IMU frame; ĝ the direction of gravity in the
 //   world (target) frame, a unit vector (S² block), |g| a constant (m/s²): at
 //   rest the reading is −|g| R(t)ᵀ ĝ, "up".
-//   blocks: 4 control points, b_a (R³), ĝ (S² 3)[, M (R⁶), as the gyroscope's].
+//   blocks: 4 control points, b_a (R³), ĝ (S² 3)[, M (R⁶), as the gyroscope's
+//   [, [r_y, r_z] (R⁶): the size effect, the y and z sensing elements at r_y, r_z from
+//   the x element, each feeling e_iᵀ (f + α × r_i + ω × (ω × r_i))]].
 // Reprojection (2):   r = W (π(k, cam_from_world(t_c + d) · p_in_world) − z)
 //   a target corner seen by a camera at its own timestamp t_c; the IMU clock
 //   reads t_c + d (d the time offset, a 1-vector block), the camera's pose is
@@ -58,11 +60,9 @@ std::shared_ptr<ceres::CostFunction> MakeSplineGyroFactor(double u, double dt,
                                                           const NoiseModel& noise,
                                                           bool intrinsics = false);
 
-std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
-                                                           const Eigen::Vector3d& z,
-                                                           const NoiseModel& noise,
-                                                           double gravity_magnitude = 9.81,
-                                                           bool intrinsics = false);
+std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(
+    double u, double dt, const Eigen::Vector3d& z, const NoiseModel& noise,
+    double gravity_magnitude = 9.81, bool intrinsics = false, bool size_effect = false);
 
 // time_offset: one more block, the other IMU's time offset d (R¹; the sample's body
 // time is its own + d), and u was computed with d = d0: u(d) = u + (d − d0)/Δt.
