@@ -315,3 +315,10 @@ def test_the_accelerometers_size_effect():
     assert cal.problem.rms()["accelerometer"] == pytest.approx(0.05 * np.sqrt(3), rel=0.1)
     with pytest.raises(ValueError, match="accel_size_effect needs imu_intrinsics"):
         calibrate_camera_imu(data, K, pixel_sigma=0.3, accel_size_effect=True)
+    # the command line's report lists the IMU's own model with σ
+    from boxplus.calib.camera_imu_cli import _report
+    from boxplus.calib.io import CalibratedCamera
+
+    text = _report(cal, [CalibratedCamera("cam0", "pinhole", K, (640, 480), SE3())], data, 0.005, 0.05)
+    assert "accelerometer scale and misalignment (reading M x + b), value ± σ: s_x" in text
+    assert "accelerometer size effect (y, z elements from x, m), value ± σ: r_y.x" in text

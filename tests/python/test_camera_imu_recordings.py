@@ -567,3 +567,12 @@ def test_the_recording_may_follow_an_option_of_several_values(tmp_path, capsys):
     with pytest.raises(SystemExit):
         _parse([*base, "--cam", "cam0", "cam1"])  # cam1 is no folder on disk
     assert "the recording (an EuRoC folder, a bag or an MCAP file) is missing" in capsys.readouterr().err
+
+
+
+def test_the_size_effect_flag_needs_the_intrinsics_flag(capsys):
+    from boxplus.calib.camera_imu_cli import _parse
+
+    with pytest.raises(SystemExit):
+        _parse(["rec", "--intrinsics", "c.yml", "--target", "t.yaml", "--accel-size-effect"])
+    assert "--accel-size-effect needs --imu-intrinsics" in capsys.readouterr().err

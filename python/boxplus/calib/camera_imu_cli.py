@@ -329,6 +329,9 @@ def _parse(argv: list[str] | None) -> argparse.Namespace:
     folder on disk, as the last word of the command line."""
     ap = _parser()
     args = ap.parse_args(argv)
+    if args.accel_size_effect and not args.imu_intrinsics:
+        ap.error("--accel-size-effect needs --imu-intrinsics (the size effect is part of the "
+                 "accelerometer's own model)")
     if args.recording is not None:
         return args
     words = list(sys.argv[1:] if argv is None else argv)
