@@ -348,6 +348,8 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     ``bias_spacing`` seconds (module docstring); both or neither. Raises ValueError
     naming what is missing (too few frames with corners, IMU samples not covering the
     frames), and the camera when there are several."""
+    if accel_size_effect and not imu_intrinsics:
+        raise ValueError("calibrate_camera_imu: accel_size_effect needs imu_intrinsics=True")
     args = dict(locals())
     if knot_spacing is not None:
         cal = _fit(**args)
@@ -508,8 +510,6 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
             if c == 0:
                 ids["line_delay"] = ids["line_delay[0]"]
     knots = [ids[f"knot{j}"] for j in range(n_knots)]
-    if accel_size_effect and not imu_intrinsics:
-        raise ValueError("calibrate_camera_imu: accel_size_effect needs imu_intrinsics=True")
     if imu_intrinsics:
         for kind in ("gyro_intrinsics", "accel_intrinsics"):
             ids[kind] = o.add_random_var(Rn(_IDENTITY_INTRINSICS), name=kind, labels=_INTRINSICS_LABELS)

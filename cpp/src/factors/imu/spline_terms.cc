@@ -60,6 +60,24 @@ struct ImuSample {
   }
 };
 
+template <typename T>
+void Cross(const T* x, const T* y, T* out) {
+  out[0] = x[1] * y[2] - x[2] * y[1];
+  out[1] = x[2] * y[0] - x[0] * y[2];
+  out[2] = x[0] * y[1] - x[1] * y[0];
+}
+
+// The acceleration of a point at `arm` from the body's origin beyond the origin's own:
+// the tangential α × r and the centripetal ω × (ω × r) (body frame).
+template <typename T>
+void LeverArmAcceleration(const T* omega, const T* alpha, const T* arm, T* out) {
+  T wxr[3], centripetal[3], tangential[3];
+  Cross(omega, arm, wxr);
+  Cross(omega, wxr, centripetal);
+  Cross(alpha, arm, tangential);
+  for (int i = 0; i < 3; ++i) out[i] = tangential[i] + centripetal[i];
+}
+
 // The IMU's own scale and misalignment (Kalibr's "scale-misalignment" model), a
 // 6-vector [s_x, s_y, s_z, m_yx, m_zx, m_zy] read as the lower-triangular matrix
 //   M = [[s_x, 0, 0], [m_yx, s_y, 0], [m_zx, m_zy, s_z]],
@@ -136,12 +154,9 @@ class AccelFunctor {
                      a, omega, alpha);
     ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
     for (int axis = 1; axis < 3; ++axis) {
-      const T* arm = size + 3 * (axis - 1);
-      T wxr[3], lever[3], axr[3];
-      Cross(omega, arm, wxr);
-      Cross(omega, wxr, lever);
-      Cross(alpha, arm, axr);
-      f[axis] += axr[axis] + lever[axis];
+      T extra[3];
+      LeverArmAcceleration(omega, alpha, size + 3 * (axis - 1), extra);
+      f[axis] += extra[axis];
     }
     T read[3];
     ApplyIntrinsics(m, f, read);
@@ -150,13 +165,6 @@ class AccelFunctor {
   }
 
  private:
-  template <typename T>
-  static void Cross(const T* x, const T* y, T* out) {
-    out[0] = x[1] * y[2] - x[2] * y[1];
-    out[1] = x[2] * y[0] - x[0] * y[2];
-    out[2] = x[0] * y[1] - x[1] * y[0];
-  }
-
   template <typename T>
   void Force(const T* k0, const T* k1, const T* k2, const T* k3, const T* gravity_dir, T* f) const {
     T q[4], a[3];
@@ -228,26 +236,14 @@ class OffsetAccelFunctor {
     s_.EvaluateAt(u, k0, k1, k2, k3, q, a, omega, alpha);
     T f[3];
     ImuSample::SpecificForce(q, a, gravity_dir, g_, f);
-    // + α × r + ω × (ω × r), body frame
-    const T* arm = body_from_imu;
-    T wxr[3], lever[3];
-    Cross(omega, arm, wxr);
-    Cross(omega, wxr, lever);
-    T axr[3];
-    Cross(alpha, arm, axr);
-    for (int i = 0; i < 3; ++i) f[i] += axr[i] + lever[i];
+    T extra[3];
+    LeverArmAcceleration(omega, alpha, body_from_imu, extra);  // the arm r: the pose's position
+    for (int i = 0; i < 3; ++i) f[i] += extra[i];
     T qk_inv[4], f_k[3];
     QuatConjugate(body_from_imu + 3, qk_inv);
     QuatRotatePoint(qk_inv, f, f_k);
     s_.Residual(f_k, bias, r);
     return true;
-  }
-
-  template <typename T>
-  static void Cross(const T* x, const T* y, T* out) {
-    out[0] = x[1] * y[2] - x[2] * y[1];
-    out[1] = x[2] * y[0] - x[0] * y[2];
-    out[2] = x[0] * y[1] - x[1] * y[0];
   }
 
   ImuSample s_;
