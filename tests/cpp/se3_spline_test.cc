@@ -289,6 +289,41 @@ TEST(Se3Spline, AnotherImuFeelsItsLeverArm) {
     EXPECT_LT((J_d - numeric_d).norm(), 1e-4 * J_d.norm() + 1e-6);
     EXPECT_GT(J_d.norm(), 0.1);
   }
+
+  // Its own scale and misalignment M (the block after d): it reads M x + b in its own
+  // axes, alone and with the time offset.
+  const Eigen::Matrix<double, 6, 1> m =
+      (Eigen::Matrix<double, 6, 1>() << 1.02, 0.97, 1.01, 0.004, -0.006, 0.003).finished();
+  Eigen::Matrix3d M;
+  M << m[0], 0, 0, m[3], m[1], 0, m[4], m[5], m[2];
+  for (const bool with_offset : {false, true}) {
+    for (const bool is_gyro : {true, false}) {
+      const Eigen::Vector3d z =
+          is_gyro ? Eigen::Vector3d(M * w_k + bg) : Eigen::Vector3d(M * f_k + ba);
+      auto f =
+          is_gyro ? MakeSplineOffsetGyroFactor(with_offset ? u0 : u, dt, z,
+                                               NoiseModel::Isotropic(3, 1.0), with_offset, d0, true)
+                  : MakeSplineOffsetAccelFactor(with_offset ? u0 : u, dt, z,
+                                                NoiseModel::Isotropic(3, 1.0), 9.81, with_offset,
+                                                d0, true);
+      std::vector<const double*> mb = is_gyro ? gb : ab;
+      if (with_offset) mb.push_back(&d);
+      mb.push_back(m.data());
+      ASSERT_EQ(f->parameter_block_sizes().back(), 6);
+      ASSERT_TRUE(f->Evaluate(mb.data(), r.data(), nullptr));
+      EXPECT_LT(r.norm(), 1e-4 * (1 + f_k.norm())) << is_gyro << with_offset;
+      // without M the same reading is off by (M − I) x
+      auto plain =
+          is_gyro
+              ? MakeSplineOffsetGyroFactor(with_offset ? u0 : u, dt, z,
+                                           NoiseModel::Isotropic(3, 1.0), with_offset, d0)
+              : MakeSplineOffsetAccelFactor(with_offset ? u0 : u, dt, z,
+                                            NoiseModel::Isotropic(3, 1.0), 9.81, with_offset, d0);
+      mb.pop_back();
+      ASSERT_TRUE(plain->Evaluate(mb.data(), r.data(), nullptr));
+      EXPECT_GT(r.norm(), 1e-3);
+    }
+  }
 }
 
 }  // namespace

@@ -91,24 +91,28 @@ void RegisterImuFactors(py::module_& m) {
       "spline_offset_gyro_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, double u, double dt,
          const Eigen::Vector3d& z, const NoiseModel& noise, std::optional<int> time_offset,
-         double d0) {
+         double d0, std::optional<int> intrinsics) {
         if (knots.size() != 4) throw py::value_error("spline_offset_gyro_factor: 4 control points");
         std::vector<int> ids = knots;
         ids.push_back(body_from_imu);
         ids.push_back(bias);
         if (time_offset) ids.push_back(*time_offset);
-        return Factor{MakeSplineOffsetGyroFactor(u, dt, z, noise, time_offset.has_value(), d0), ids,
-                      noise};
+        if (intrinsics) ids.push_back(*intrinsics);
+        return Factor{MakeSplineOffsetGyroFactor(u, dt, z, noise, time_offset.has_value(), d0,
+                                                 intrinsics.has_value()),
+                      ids, noise};
       },
       py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("u"), py::arg("dt"),
       py::arg("z"), py::arg("noise"), py::arg("time_offset") = py::none(), py::arg("d0") = 0.0,
-      "Another IMU's gyroscope: r = W (R_kᵀ ω + b_g − z), with time_offset (an Rn(1) id) "
-      "read at body time t + d, u computed with d = d0; see factors/imu/spline_terms.h.");
+      py::arg("intrinsics") = py::none(),
+      "Another IMU's gyroscope: r = W (M R_kᵀ ω + b_g − z), with time_offset (an Rn(1) id) "
+      "read at body time t + d, u computed with d = d0; M the scale and misalignment of the "
+      "Rn(6) variable intrinsics (identity without); see factors/imu/spline_terms.h.");
   m.def(
       "spline_offset_accel_factor",
       [](const std::vector<int>& knots, int body_from_imu, int bias, int gravity, double u,
          double dt, const Eigen::Vector3d& z, const NoiseModel& noise, double g,
-         std::optional<int> time_offset, double d0) {
+         std::optional<int> time_offset, double d0, std::optional<int> intrinsics) {
         if (knots.size() != 4)
           throw py::value_error("spline_offset_accel_factor: 4 control points");
         std::vector<int> ids = knots;
@@ -116,14 +120,17 @@ void RegisterImuFactors(py::module_& m) {
         ids.push_back(bias);
         ids.push_back(gravity);
         if (time_offset) ids.push_back(*time_offset);
-        return Factor{MakeSplineOffsetAccelFactor(u, dt, z, noise, g, time_offset.has_value(), d0),
+        if (intrinsics) ids.push_back(*intrinsics);
+        return Factor{MakeSplineOffsetAccelFactor(u, dt, z, noise, g, time_offset.has_value(), d0,
+                                                  intrinsics.has_value()),
                       ids, noise};
       },
       py::arg("knots"), py::arg("body_from_imu"), py::arg("bias"), py::arg("gravity"), py::arg("u"),
       py::arg("dt"), py::arg("z"), py::arg("noise"), py::arg("g") = 9.81,
-      py::arg("time_offset") = py::none(), py::arg("d0") = 0.0,
-      "Another IMU's accelerometer, with its lever arm: r = W (R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + "
-      "ω × (ω × r)) + b_a − z); see factors/imu/spline_terms.h.");
+      py::arg("time_offset") = py::none(), py::arg("d0") = 0.0, py::arg("intrinsics") = py::none(),
+      "Another IMU's accelerometer, with its lever arm: r = W (M R_kᵀ (R(t)ᵀ (a − g ĝ) + α × r + "
+      "ω × (ω × r)) + b_a − z), M as spline_offset_gyro_factor's; see "
+      "factors/imu/spline_terms.h.");
   m.def(
       "spline_reprojection_factor",
       [](const std::string& model, const std::vector<int>& knots, int imu_from_cam, int offset,

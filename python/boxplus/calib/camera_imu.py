@@ -162,6 +162,10 @@ class CameraImuCalibration:
     # the reading M x + b), None when not estimated
     gyro_intrinsics: np.ndarray | None = None
     accel_intrinsics: np.ndarray | None = None
+    # per IMU (the first first): its scale and misalignment as above; empty when not
+    # estimated
+    imu_gyro_intrinsics: list[np.ndarray] = field(default_factory=list)
+    imu_accel_intrinsics: list[np.ndarray] = field(default_factory=list)
     # the accelerometer's size effect (accel_size_effect=True): rows r_y, r_z (m)
     accel_size_effect: np.ndarray | None = None
 
@@ -201,7 +205,8 @@ class CameraImuCalibration:
         names += [f"line_delay[{c}]" for c, ell in enumerate(self.line_delays) if ell is not None]
         names += [v for v in ("gyro_intrinsics", "accel_intrinsics", "accel_size_effect") if v in self.ids]
         names += [f"{v}[{k}]" for k in range(1, len(self.imu0_from_imus))
-                  for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias", "imu_time_offset")
+                  for v in ("imu0_from_imu", "imu_gyro_bias", "imu_accel_bias", "imu_time_offset",
+                            "imu_gyro_intrinsics", "imu_accel_intrinsics")
                   if f"{v}[{k}]" in self.ids]
         return {**fields_todict(self, skip=("problem", "ids")),
                 "std": {n: self.std(n).tolist() for n in names},
@@ -334,14 +339,17 @@ def calibrate_camera_imu(data: CameraImuData, intrinsics: Any, model: str | list
     first IMU's. Each IMU's clock offset d_k (its stamp + d_k is the first IMU's time,
     Kalibr's per-IMU ``time_offset``) is estimated, started from the alignment of its
     gyroscope with the first one's over ±``max_offset``; ``imu_time_offsets=False``
-    when all IMUs share the first one's clock. ``imu_intrinsics``: the first IMU's
+    when all IMUs share the first one's clock. ``imu_intrinsics``: every IMU's
     gyroscope and accelerometer also get a scale and misalignment each (Kalibr's
-    scale-misalignment model: the reading M x + b, M lower triangular, started at the
-    identity; ``cal.gyro_intrinsics``, ``cal.accel_intrinsics``, ids "gyro_intrinsics",
-    "accel_intrinsics" labelled s_x s_y s_z m_yx m_zx m_zy). ``accel_size_effect`` (with
-    ``imu_intrinsics``): the accelerometer's y and z sensing elements sit at r_y, r_z from
-    its x element (Kalibr's size effect; ``cal.accel_size_effect`` (2 × 3), id
-    "accel_size_effect"), each reading its own point's specific force.
+    scale-misalignment model: the reading M x + b in the IMU's own axes, M lower
+    triangular, started at the identity; the first IMU's ``cal.gyro_intrinsics``,
+    ``cal.accel_intrinsics``, ids "gyro_intrinsics", "accel_intrinsics" labelled s_x s_y
+    s_z m_yx m_zx m_zy; every IMU's ``cal.imu_gyro_intrinsics[k]``,
+    ``cal.imu_accel_intrinsics[k]``, ids "imu_gyro_intrinsics[k]",
+    "imu_accel_intrinsics[k]" for k ≥ 1). ``accel_size_effect`` (with
+    ``imu_intrinsics``; the first IMU's): the accelerometer's y and z sensing elements
+    sit at r_y, r_z from its x element (Kalibr's size effect; ``cal.accel_size_effect``
+    (2 × 3), id "accel_size_effect"), each reading its own point's specific force.
     ``gyro_sigma``/``accel_sigma``: the per-sample noise
     (rad/s, m/s²; Kalibr's density × √rate). ``gyro_random_walk``/``accel_random_walk``
     (rad/s²/√Hz, m/s³/√Hz, Kalibr's imu.yaml): biases that drift, one value per
@@ -531,7 +539,7 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
                      group="accelerometer")
     imus = _add_other_imus(o, ids, data, knots, t0, dt, bias_times, walks, gyro_sigma, accel_sigma,
                            other_imu_sigmas, gravity_magnitude, t_imu, gyro,
-                           max_offset if imu_time_offsets else None)
+                           max_offset if imu_time_offsets else None, imu_intrinsics)
     groups = [f"reprojection {cam.name}" if several else "reprojection" for cam in cameras]
     for c, fr in enumerate(frames):
         ell_id = ids.get(f"line_delay[{c}]")
@@ -551,7 +559,8 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
     held = sorted({ids[f"{v}[{c}]"] for c in range(n_cam) for v in ("imu_from_cam", "time_offset")}
                   | {ids[f"line_delay[{c}]"] for c in range(n_cam) if rolling[c]}
                   | {ids[f"{v}[{k}]"] for k in range(1, len(imus) + 1)
-                     for v in ("imu0_from_imu", "imu_time_offset") if f"{v}[{k}]" in ids}
+                     for v in ("imu0_from_imu", "imu_time_offset", "imu_gyro_intrinsics",
+                               "imu_accel_intrinsics") if f"{v}[{k}]" in ids}
                   | {ids[v] for v in ("gyro_intrinsics", "accel_intrinsics", "accel_size_effect") if v in ids})
     for vid in held:
         o.fix(vid)
@@ -594,7 +603,13 @@ def _fit(data: CameraImuData, intrinsics: Any, model: str | list[str], *, pixel_
                 for k in range(1, len(imus) + 1))],
         gyro_intrinsics=intrinsics_matrix(o[ids["gyro_intrinsics"]].vec) if imu_intrinsics else None,
         accel_intrinsics=intrinsics_matrix(o[ids["accel_intrinsics"]].vec) if imu_intrinsics else None,
-        accel_size_effect=o[ids["accel_size_effect"]].vec.reshape(2, 3) if accel_size_effect else None)
+        accel_size_effect=o[ids["accel_size_effect"]].vec.reshape(2, 3) if accel_size_effect else None,
+        imu_gyro_intrinsics=[intrinsics_matrix(o[ids[n]].vec) for n in
+                             ["gyro_intrinsics", *(f"imu_gyro_intrinsics[{k}]" for k in range(1, len(imus) + 1))]]
+        if imu_intrinsics else [],
+        imu_accel_intrinsics=[intrinsics_matrix(o[ids[n]].vec) for n in
+                              ["accel_intrinsics", *(f"imu_accel_intrinsics[{k}]" for k in range(1, len(imus) + 1))]]
+        if imu_intrinsics else [])
 
 
 # The adaptive knot spacing (calibrate_camera_imu with knot_spacing=None), chosen on
@@ -670,14 +685,16 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
                     t0: float, dt: float, bias_times: np.ndarray, walks: tuple[float, float] | None,
                     gyro_sigma: float, accel_sigma: float, sigmas: list[tuple[float, float]] | None,
                     gravity_magnitude: float, t_body: np.ndarray, gyro_body: np.ndarray,
-                    max_offset: float | None) -> list[tuple[str, float, float]]:
+                    max_offset: float | None, intrinsics: bool = False) -> list[tuple[str, float, float]]:
     """The terms of every IMU after the first (calibrate_camera_imu's docstring): its pose
     imu0_from_imu (ids "imu0_from_imu[k]", the rotation started by aligning its gyroscope
     with the first one's, Wahba; the lever arm at 0), its clock's offset
     ("imu_time_offset[k]", started where the two gyroscopes align best within
     ±``max_offset``; none when None), its biases ("imu{k}.gyro_bias[s]",
-    "imu{k}.accel_bias[s]", on the first IMU's segments) and its samples inside the
-    spline. Returns (name, gyro σ, accel σ) per IMU."""
+    "imu{k}.accel_bias[s]", on the first IMU's segments), with ``intrinsics`` its own
+    scale and misalignment ("imu_gyro_intrinsics[k]", "imu_accel_intrinsics[k]", started
+    at the identity) and its samples inside the spline. Returns (name, gyro σ, accel σ)
+    per IMU."""
     imus = data.other_imus
     if sigmas is not None and len(sigmas) != len(imus):
         raise ValueError(f"calibrate_camera_imu: {len(sigmas)} other_imu_sigmas for {len(imus)} other IMUs")
@@ -712,17 +729,22 @@ def _add_other_imus(o: OptimizationProblem, ids: dict[str, int], data: CameraImu
         _add_biases(o, ids, f"imu{k}.", name, bias_times, walks)
         for kind in ("gyro_bias", "accel_bias"):
             ids[f"imu_{kind}[{k}]"] = ids[f"imu{k}.{kind}"]
+        if intrinsics:
+            for kind in ("gyro_intrinsics", "accel_intrinsics"):
+                ids[f"imu_{kind}[{k}]"] = o.add_random_var(Rn(_IDENTITY_INTRINSICS), name=f"{name}.{kind}",
+                                                          labels=_INTRINSICS_LABELS)
+        m_g, m_a = ids.get(f"imu_gyro_intrinsics[{k}]"), ids.get(f"imu_accel_intrinsics[{k}]")
         gn, an = NoiseModel.isotropic(3, gs), NoiseModel.isotropic(3, acs)
         pose = ids[f"imu0_from_imu[{k}]"]
         for ti, w, f, seg in zip(t[inside], g[inside], a[inside], segment):
             i, u = spline_segment(ti, t0, dt, n_knots)
             kn = knots[i:i + 4]
             o.add_factor(_core.spline_offset_gyro_factor(kn, pose, ids[f"imu{k}.gyro_bias[{seg}]"], u, dt, w, gn,
-                                                         offset, d0),
+                                                         offset, d0, m_g),
                          group=f"gyroscope {name}")
             o.add_factor(_core.spline_offset_accel_factor(kn, pose, ids[f"imu{k}.accel_bias[{seg}]"],
                                                           ids["gravity"], u, dt, f, an, gravity_magnitude,
-                                                          offset, d0),
+                                                          offset, d0, m_a),
                          group=f"accelerometer {name}")
         out.append((name, gs, acs))
     return out

@@ -93,11 +93,11 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--common-clock", action="store_true",
                     help="the cameras are triggered together: one time offset for all")
     ap.add_argument("--imu-intrinsics", action="store_true",
-                    help="estimate the first IMU's gyroscope and accelerometer scale and "
+                    help="estimate every IMU's gyroscope and accelerometer scale and "
                          "misalignment too (Kalibr's scale-misalignment model)")
     ap.add_argument("--accel-size-effect", action="store_true",
-                    help="with --imu-intrinsics: the accelerometer's y and z sensing elements' "
-                         "positions too (Kalibr's size effect)")
+                    help="with --imu-intrinsics: the first IMU's accelerometer's y and z sensing "
+                         "elements' positions too (Kalibr's size effect)")
     ap.add_argument("--imus-common-clock", action="store_true",
                     help="the IMUs share the first one's clock: no time offset between IMUs "
                          "(default: each other IMU's offset is estimated)")
@@ -268,6 +268,10 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
         lines.append(f"{name} biases: gyroscope (rad/s) "
                      + " ".join(f"{v:+.5f}" for v in cal.imu_gyro_biases[k])
                      + ", accelerometer (m/s²) " + " ".join(f"{v:+.4f}" for v in cal.imu_accel_biases[k]))
+        for kind, what in (("gyro_intrinsics", "gyroscope"), ("accel_intrinsics", "accelerometer")):
+            if f"imu_{kind}[{k}]" in cal.ids:
+                lines.append(_intrinsics_line(cal, f"imu_{kind}[{k}]",
+                                              f"{name} {what} scale and misalignment (reading M x + b)"))
     lines += [
         "gyroscope bias (rad/s): " + " ".join(f"{v:+.5f}" for v in cal.gyro_bias)
         + "  ± " + " ".join(f"{v:.5f}" for v in cal.std("gyro_bias")),
@@ -284,11 +288,15 @@ def _report(cal: Any, cameras: list[Any], data: Any, gyro_sigma: float, accel_si
                        ("accel_intrinsics", "accelerometer scale and misalignment (reading M x + b)"),
                        ("accel_size_effect", "accelerometer size effect (y, z elements from x, m)")):
         if kind in cal.ids:
-            values, std = cal.problem[cal.ids[kind]].vec, cal.std(kind)
-            lines.append(f"{what}, value ± σ: "
-                         + ", ".join(f"{lab} {v:.5f} ± {s:.5f}" for lab, v, s in
-                                     zip(cal.problem.labels(cal.ids[kind]), values, std)))
+            lines.append(_intrinsics_line(cal, kind, what))
     return "\n".join(lines)
+
+
+def _intrinsics_line(cal: Any, name: str, what: str) -> str:
+    """One report line: an IMU's own-model variable, each coordinate's label, value and σ."""
+    values, std = cal.problem[cal.ids[name]].vec, cal.std(name)
+    return f"{what}, value ± σ: " + ", ".join(f"{lab} {v:.5f} ± {s:.5f}" for lab, v, s in
+                                               zip(cal.problem.labels(cal.ids[name]), values, std))
 
 
 # every file a run writes into --out

@@ -28,7 +28,9 @@ class SimulatedImu:
     """One more IMU on the simulated rig: its pose in the first IMU's frame (lever arm
     and rotation), its constant biases, the phase of its samples after the first IMU's
     (s) at the first IMU's rate, and its clock's ``time_offset`` d (s): a sample taken
-    at the first IMU's time t is stamped t − d (stamp + d is the first IMU's time)."""
+    at the first IMU's time t is stamped t − d (stamp + d is the first IMU's time);
+    ``gyro_intrinsics`` / ``accel_intrinsics`` (3 × 3 lower triangular, None: the
+    identity) make it read M x + b in its own axes."""
 
     imu0_from_imu: SE3
     gyro_bias: Any = (0.0, 0.0, 0.0)
@@ -36,6 +38,8 @@ class SimulatedImu:
     phase: float = 0.0
     name: str = ""
     time_offset: float = 0.0
+    gyro_intrinsics: Any = None
+    accel_intrinsics: Any = None
 
 
 @dataclass
@@ -216,12 +220,14 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     for i, extra in enumerate(other_imus):
         R_k, r = extra.imu0_from_imu.rot.R, extra.imu0_from_imu.pos
         t_k = np.arange(extra.phase, duration, 1.0 / imu_rate)
+        Mg_k = np.eye(3) if extra.gyro_intrinsics is None else np.asarray(extra.gyro_intrinsics, float)
+        Ma_k = np.eye(3) if extra.accel_intrinsics is None else np.asarray(extra.accel_intrinsics, float)
         g_k, a_k = [], []
         for t in t_k:
             p, q, v, a, w, alpha = state(t)
             f = SO3(q).R.T @ (a - 9.81 * g_dir) + np.cross(alpha, r) + np.cross(w, np.cross(w, r))
-            g_k.append(R_k.T @ w + np.asarray(extra.gyro_bias, float) + rng.normal(0, gyro_sigma, 3))
-            a_k.append(R_k.T @ f + np.asarray(extra.accel_bias, float) + rng.normal(0, accel_sigma, 3))
+            g_k.append(Mg_k @ R_k.T @ w + np.asarray(extra.gyro_bias, float) + rng.normal(0, gyro_sigma, 3))
+            a_k.append(Ma_k @ R_k.T @ f + np.asarray(extra.accel_bias, float) + rng.normal(0, accel_sigma, 3))
         more_imus.append(ImuSamples(t_k - extra.time_offset, np.array(g_k), np.array(a_k),
                                     extra.name or f"imu{i + 1}"))
     truth["imu0_from_imus"] = [SE3(), *(x.imu0_from_imu for x in other_imus)]

@@ -178,8 +178,12 @@ class AccelFunctor {
 
 // Another IMU on the rig, at body_from_imu = [r, q_k] (the body IMU's frame):
 // it turns with the body and feels, besides the body's specific force, the
-// tangential and centripetal acceleration of its lever arm r. With a time-offset
-// block d (R¹) its samples are read at body time t + d (the operator with `d`).
+// tangential and centripetal acceleration of its lever arm r. Optional blocks after
+// the fixed ones, in this order: kOffset, its time offset d (R¹; its samples are read
+// at body time t + d); kIntrinsics, its own scale and misalignment M (R⁶,
+// ApplyIntrinsics). Ceres calls the operator with as many blocks as the cost function
+// has, so the arity picks the overload and the flags say what the extra block is.
+template <bool kOffset, bool kIntrinsics>
 class OffsetGyroFunctor {
  public:
   OffsetGyroFunctor(ImuSample s, double d0) : s_(std::move(s)), d0_(d0) {}
@@ -187,24 +191,42 @@ class OffsetGyroFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
                   const T* bias, T* r) const {
-    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, r);
+    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, static_cast<const T*>(nullptr),
+                    r);
   }
 
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
-                  const T* bias, const T* d, T* r) const {
-    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, r);
+                  const T* bias, const T* extra, T* r) const {
+    if constexpr (kOffset) {
+      return Residual(s_.Shifted(extra, d0_), k0, k1, k2, k3, body_from_imu, bias,
+                      static_cast<const T*>(nullptr), r);
+    } else {
+      return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, extra, r);
+    }
+  }
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, const T* d, const T* m, T* r) const {
+    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, m, r);
   }
 
  private:
   template <typename T>
   bool Residual(const T& u, const T* k0, const T* k1, const T* k2, const T* k3,
-                const T* body_from_imu, const T* bias, T* r) const {
+                const T* body_from_imu, const T* bias, const T* m, T* r) const {
     T omega[3], q_inv[4], omega_k[3];
     s_.EvaluateAt(u, k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
     QuatConjugate(body_from_imu + 3, q_inv);
     QuatRotatePoint(q_inv, omega, omega_k);
-    s_.Residual(omega_k, bias, r);
+    if (m != nullptr) {
+      T read[3];
+      ApplyIntrinsics(m, omega_k, read);
+      s_.Residual(read, bias, r);
+    } else {
+      s_.Residual(omega_k, bias, r);
+    }
     return true;
   }
 
@@ -212,6 +234,7 @@ class OffsetGyroFunctor {
   double d0_;
 };
 
+template <bool kOffset, bool kIntrinsics>
 class OffsetAccelFunctor {
  public:
   OffsetAccelFunctor(ImuSample s, double g, double d0) : s_(std::move(s)), g_(g), d0_(d0) {}
@@ -219,19 +242,32 @@ class OffsetAccelFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
                   const T* bias, const T* gravity_dir, T* r) const {
-    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, r);
+    return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, gravity_dir,
+                    static_cast<const T*>(nullptr), r);
   }
 
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
-                  const T* bias, const T* gravity_dir, const T* d, T* r) const {
-    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, r);
+                  const T* bias, const T* gravity_dir, const T* extra, T* r) const {
+    if constexpr (kOffset) {
+      return Residual(s_.Shifted(extra, d0_), k0, k1, k2, k3, body_from_imu, bias, gravity_dir,
+                      static_cast<const T*>(nullptr), r);
+    } else {
+      return Residual(T(s_.u), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, extra, r);
+    }
+  }
+
+  template <typename T>
+  bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* body_from_imu,
+                  const T* bias, const T* gravity_dir, const T* d, const T* m, T* r) const {
+    return Residual(s_.Shifted(d, d0_), k0, k1, k2, k3, body_from_imu, bias, gravity_dir, m, r);
   }
 
  private:
   template <typename T>
   bool Residual(const T& u, const T* k0, const T* k1, const T* k2, const T* k3,
-                const T* body_from_imu, const T* bias, const T* gravity_dir, T* r) const {
+                const T* body_from_imu, const T* bias, const T* gravity_dir, const T* m,
+                T* r) const {
     T q[4], a[3], omega[3], alpha[3];
     s_.EvaluateAt(u, k0, k1, k2, k3, q, a, omega, alpha);
     T f[3];
@@ -242,7 +278,13 @@ class OffsetAccelFunctor {
     T qk_inv[4], f_k[3];
     QuatConjugate(body_from_imu + 3, qk_inv);
     QuatRotatePoint(qk_inv, f, f_k);
-    s_.Residual(f_k, bias, r);
+    if (m != nullptr) {
+      T read[3];
+      ApplyIntrinsics(m, f_k, read);
+      s_.Residual(read, bias, r);
+    } else {
+      s_.Residual(f_k, bias, r);
+    }
     return true;
   }
 
@@ -250,6 +292,27 @@ class OffsetAccelFunctor {
   double g_;
   double d0_;
 };
+
+// The cost function of an other-IMU functor F<kOffset, kIntrinsics> whose fixed blocks
+// are kFixed...: the optional blocks appended in the functors' order.
+template <template <bool, bool> class F, int... kFixed, typename... Args>
+std::shared_ptr<ceres::CostFunction> OtherImuCost(bool time_offset, bool intrinsics,
+                                                  Args&&... args) {
+  if (time_offset && intrinsics) {
+    return std::make_shared<ceres::AutoDiffCostFunction<F<true, true>, 3, kFixed..., 1, 6>>(
+        new F<true, true>(std::forward<Args>(args)...));
+  }
+  if (time_offset) {
+    return std::make_shared<ceres::AutoDiffCostFunction<F<true, false>, 3, kFixed..., 1>>(
+        new F<true, false>(std::forward<Args>(args)...));
+  }
+  if (intrinsics) {
+    return std::make_shared<ceres::AutoDiffCostFunction<F<false, true>, 3, kFixed..., 6>>(
+        new F<false, true>(std::forward<Args>(args)...));
+  }
+  return std::make_shared<ceres::AutoDiffCostFunction<F<false, false>, 3, kFixed...>>(
+      new F<false, false>(std::forward<Args>(args)...));
+}
 
 // kRolling: one more block, the line delay ℓ (s per image row): the corner's row v
 // (its measured one) was read out ℓ·v after the frame's timestamp.
@@ -355,40 +418,27 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(double u, double dt,
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
                                                                 const Eigen::Vector3d& z,
                                                                 const NoiseModel& noise,
-                                                                bool time_offset, double d0) {
+                                                                bool time_offset, double d0,
+                                                                bool intrinsics) {
   CheckTime(u, dt, "spline gyro factor of another IMU");
   BOXPLUS_CHECK(z.allFinite() && std::isfinite(d0),
                 "spline gyro factor of another IMU: non-finite reading or offset");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline gyro factor of another IMU");
-  auto* f = new OffsetGyroFunctor(ImuSample{u, dt, z, W}, d0);
-  if (time_offset) {
-    return std::make_shared<
-        ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 1>>(
-        f);
-  }
-  return std::make_shared<
-      ceres::AutoDiffCostFunction<OffsetGyroFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3>>(f);
+  return OtherImuCost<OffsetGyroFunctor, kKnot, kKnot, kKnot, kKnot, kKnot, 3>(
+      time_offset, intrinsics, ImuSample{u, dt, z, W}, d0);
 }
 
-std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(double u, double dt,
-                                                                 const Eigen::Vector3d& z,
-                                                                 const NoiseModel& noise,
-                                                                 double gravity_magnitude,
-                                                                 bool time_offset, double d0) {
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(
+    double u, double dt, const Eigen::Vector3d& z, const NoiseModel& noise,
+    double gravity_magnitude, bool time_offset, double d0, bool intrinsics) {
   CheckTime(u, dt, "spline accelerometer factor of another IMU");
   BOXPLUS_CHECK(z.allFinite() && std::isfinite(gravity_magnitude) && gravity_magnitude > 0 &&
                     std::isfinite(d0),
                 "spline accelerometer factor of another IMU: non-finite reading or offset, or "
                 "|g| <= 0");
   const Eigen::Matrix3d W = noise.Fixed<3>("spline accelerometer factor of another IMU");
-  auto* f = new OffsetAccelFunctor(ImuSample{u, dt, z, W}, gravity_magnitude, d0);
-  if (time_offset) {
-    return std::make_shared<ceres::AutoDiffCostFunction<OffsetAccelFunctor, 3, kKnot, kKnot, kKnot,
-                                                        kKnot, kKnot, 3, 3, 1>>(f);
-  }
-  return std::make_shared<
-      ceres::AutoDiffCostFunction<OffsetAccelFunctor, 3, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 3>>(
-      f);
+  return OtherImuCost<OffsetAccelFunctor, kKnot, kKnot, kKnot, kKnot, kKnot, 3, 3>(
+      time_offset, intrinsics, ImuSample{u, dt, z, W}, gravity_magnitude, d0);
 }
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(

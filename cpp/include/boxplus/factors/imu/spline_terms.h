@@ -66,15 +66,16 @@ std::shared_ptr<ceres::CostFunction> MakeSplineAccelFactor(
 
 // time_offset: one more block, the other IMU's time offset d (R¹; the sample's body
 // time is its own + d), and u was computed with d = d0: u(d) = u + (d − d0)/Δt.
-std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(double u, double dt,
-                                                                const Eigen::Vector3d& z,
-                                                                const NoiseModel& noise,
-                                                                bool time_offset = false,
-                                                                double d0 = 0.0);
+// intrinsics: one more block after it, the other IMU's own scale and misalignment M
+// (R⁶, as MakeSplineGyroFactor's), applied in its own axes: M R_kᵀ ω + b_g.
+std::shared_ptr<ceres::CostFunction> MakeSplineOffsetGyroFactor(
+    double u, double dt, const Eigen::Vector3d& z, const NoiseModel& noise,
+    bool time_offset = false, double d0 = 0.0, bool intrinsics = false);
 
 std::shared_ptr<ceres::CostFunction> MakeSplineOffsetAccelFactor(
     double u, double dt, const Eigen::Vector3d& z, const NoiseModel& noise,
-    double gravity_magnitude = 9.81, bool time_offset = false, double d0 = 0.0);
+    double gravity_magnitude = 9.81, bool time_offset = false, double d0 = 0.0,
+    bool intrinsics = false);
 
 std::shared_ptr<ceres::CostFunction> MakeSplineReprojectionFactor(
     const std::string& model, double t_rel, double dt, const Eigen::Vector2d& z,
