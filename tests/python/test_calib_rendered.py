@@ -180,3 +180,31 @@ def test_three_cameras_with_a_fisheye_known_intrinsics_and_partial_overlap(tmp_p
         assert np.degrees(np.linalg.norm(err[3:])) < 0.25, (c, err)  # the fisheye's own cx error
     chain = yaml.safe_load((out / "camchain.yaml").read_text())
     assert chain["cam1"]["rostopic"] == "/fish/image_raw" and "cam_overlaps" in chain["cam0"]
+
+
+def test_a_rolling_shutter_render_reads_each_row_at_its_own_pose():
+    # One pose per row: the same pose on every row is the global-shutter image; rows that
+    # move sideways shift the board by the rows' own shift (a rolling shutter's skew).
+    from boxplus.synthetic.images import render_view
+
+    t = parse_target(TARGET)
+    K = np.array([127.5, 126.25, 80.5, 59.5])  # a 160 × 120 pinhole
+    pose = SE3(SO3(), [-0.12, -0.09, 0.3])
+    still = render_view(t, "pinhole", K, (160, 120), pose, supersample=1)
+    np.testing.assert_array_equal(render_view(t, "pinhole", K, (160, 120), [pose] * 120, supersample=1),
+                                  still)
+    # the board 0.2 mm further left per row: at 0.3 m, 0.085 px per row
+    rows = [SE3(SO3(), [-0.12 - 2e-4 * v, -0.09, 0.3]) for v in range(120)]
+    moving = render_view(t, "pinhole", K, (160, 120), rows, supersample=2)
+    still2 = render_view(t, "pinhole", K, (160, 120), pose, supersample=2)
+
+    def first_dark(img, v):  # sub-pixel column where a row first turns dark
+        x = img[v].astype(float)
+        j = int(np.argmax(x < 128))
+        return j - 1 + (x[j - 1] - 128) / (x[j - 1] - x[j])
+
+    shift = {v: first_dark(moving, v) - first_dark(still2, v) for v in (40, 80)}
+    for v, s in shift.items():
+        assert s == pytest.approx(-127.5 * 2e-4 * v / 0.3, abs=0.5), shift
+    with pytest.raises(ValueError, match="119 row poses for an image of 120 rows"):
+        render_view(t, "pinhole", K, (160, 120), rows[:-1])

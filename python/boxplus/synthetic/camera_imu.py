@@ -82,7 +82,8 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
     Returns (data, truth, intrinsics); the
     truth holds the camera's pose at every frame (``world_from_cam``; the target's 42
     corners are those of ``chessboard:7x6:0.06`` shifted by (−0.18, −0.15, 0)), so
-    that images can be rendered (:mod:`boxplus.synthetic.images`).
+    that images can be rendered (:mod:`boxplus.synthetic.images`), and the IMU's pose
+    at any IMU time (``world_from_imu_at(t)``), so that a rolling shutter's rows can be.
 
     ``other_cameras`` (:class:`SimulatedCamera`) add cameras to the rig, each seeing
     the target through its own lens at its own clock (``data.other_cameras``); the
@@ -207,6 +208,10 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
                              cam.line_delay)
         others.append(CameraFrames(ft, cs, cam.name or f"cam{i + 1}"))
         poses_all.append(ps)
+    def world_from_imu_at(t: float) -> SE3:
+        p, q, *_ = state(t)
+        return SE3(SO3(q), p)
+
     truth = {"imu_from_cam": imu_from_cam, "time_offset": time_offset, "gyro_bias": bg.mean(axis=0),
              "accel_bias": ba.mean(axis=0), "gyro_bias_track": bg, "accel_bias_track": ba,
              "gravity": 9.81 * g_dir, "world_from_cam": cam_poses,
@@ -214,6 +219,7 @@ def simulate_camera_imu(rng: np.random.Generator, duration: float = 8.0, camera_
              "time_offsets": [time_offset, *(c.time_offset for c in other_cameras)],
              "world_from_cams": poses_all,
              "line_delays": [line_delay, *(c.line_delay for c in other_cameras)],
+             "world_from_imu_at": world_from_imu_at,
              "intrinsics": [K, *(K if c.intrinsics is None else np.asarray(c.intrinsics, float)
                                  for c in other_cameras)]}
     more_imus = []

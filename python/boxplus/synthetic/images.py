@@ -18,6 +18,7 @@ as PNG files, the form a user brings.
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,7 +31,7 @@ __all__ = ["RenderedView", "RigCamera", "board_views", "render_view", "write_rig
 
 
 def render_view(target: Any, model: str, k: np.ndarray, image_size: tuple[int, int],
-                cam_from_board: SE3, supersample: int = 2, noise_sigma: float = 0.0,
+                cam_from_board: SE3 | Sequence[SE3], supersample: int = 2, noise_sigma: float = 0.0,
                 rng: np.random.Generator | None = None, pixels_per_unit: float | None = None,
                 background: int = 255) -> np.ndarray:
     """The uint8 grey image of ``target`` seen by camera (model, k) at ``cam_from_board``.
@@ -39,8 +40,11 @@ def render_view(target: Any, model: str, k: np.ndarray, image_size: tuple[int, i
     ----------
     target : boxplus.calib.targets.Target
     image_size : (width, height)
-    cam_from_board : SE3
-        Maps board points (z = 0, the target's units) into the camera frame.
+    cam_from_board : SE3, or one SE3 per image row
+        Maps board points (z = 0, the target's units) into the camera frame. One pose
+        per row (``height`` of them) renders a rolling shutter: row v is exposed while
+        the camera is at its own pose (the rows read out one after the other as it
+        moves).
     supersample : int
         Rays per pixel along each axis (antialiasing).
     noise_sigma : float
@@ -55,13 +59,28 @@ def render_view(target: Any, model: str, k: np.ndarray, image_size: tuple[int, i
     origin = target.image_origin(ppu)
     n = int(supersample)
     acc = np.zeros(w * h)
-    board_from_cam = cam_from_board.inverse()
-    R, o = board_from_cam.rot.R, board_from_cam.pos
+    if isinstance(cam_from_board, SE3):
+        board_from_cam = cam_from_board.inverse()
+        R, o = board_from_cam.rot.R, board_from_cam.pos
+    else:
+        rows = list(cam_from_board)
+        if len(rows) != h:
+            raise ValueError(f"render_view: {len(rows)} row poses for an image of {h} rows")
+        per_row = [pose.inverse() for pose in rows]
+        # each pixel's ray leaves from its own row's pose (pixels are row-major)
+        row_of = np.repeat(np.arange(h), w)
+        R_px = np.array([p.rot.R for p in per_row])[row_of]
+        o_px = np.array([p.pos for p in per_row])[row_of]
     for ray in _pixel_rays(model, tuple(np.asarray(k, float)), (w, h), n):
         with np.errstate(invalid="ignore", divide="ignore"):
-            d = ray @ R.T
-            s = -o[2] / d[:, 2]
-            p = o[:2] + s[:, None] * d[:, :2]
+            if isinstance(cam_from_board, SE3):
+                d = ray @ R.T
+                s = -o[2] / d[:, 2]
+                p = o[:2] + s[:, None] * d[:, :2]
+            else:
+                d = np.einsum("nij,nj->ni", R_px, ray)
+                s = -o_px[:, 2] / d[:, 2]
+                p = o_px[:, :2] + s[:, None] * d[:, :2]
         ok = np.isfinite(s) & (s > 0) & np.all(np.isfinite(d), axis=1)
         val = np.full(w * h, float(background))
         val[ok] = _bilinear(tex, origin + p[ok] * ppu, background)
