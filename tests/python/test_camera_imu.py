@@ -337,6 +337,18 @@ def test_a_second_imus_own_scale_and_misalignment():
 
     text = _report(cal, [CalibratedCamera("cam0", "pinhole", K, (640, 480), SE3())], data, 0.005, 0.05)
     assert "imu1 gyroscope scale and misalignment (reading M x + b), value ± σ: s_x" in text
+    # Kalibr's imu YAML of each IMU: ω = M C_gyro_i ω_imu + A a + b, a = M a_imu + b, read
+    # back as Kalibr reads it, predicts what boxplus' model predicts
+    from boxplus.calib.camera_imu_cli import _kalibr_imu_model
+
+    doc = _kalibr_imu_model(cal, 1)
+    assert doc["model"] == "scale-misalignment"
+    w, f = np.array([0.3, -1.1, 0.4]), np.array([0.5, 9.7, -1.2])
+    M, C, A = (np.array(doc["gyroscopes"][key]) for key in ("M", "C_gyro_i", "A"))
+    np.testing.assert_allclose(M @ C @ w + A @ f, cal.imu_gyro_intrinsics[1] @ w, rtol=1e-15)
+    np.testing.assert_allclose(np.array(doc["accelerometers"]["M"]) @ f, cal.imu_accel_intrinsics[1] @ f,
+                               rtol=1e-15)
+    assert np.allclose(np.triu(M, 1), 0)
     # without them the second IMU's scale errors show in its gyroscope's residuals
     plain = calibrate_camera_imu(data, K, pixel_sigma=0.3, knot_spacing=cal.knot_spacing)
     assert plain.imu_gyro_intrinsics == [] and "imu_gyro_intrinsics[1]" not in plain.ids
@@ -364,3 +376,9 @@ def test_the_accelerometers_size_effect():
     text = _report(cal, [CalibratedCamera("cam0", "pinhole", K, (640, 480), SE3())], data, 0.005, 0.05)
     assert "accelerometer scale and misalignment (reading M x + b), value ± σ: s_x" in text
     assert "accelerometer size effect (y, z elements from x, m), value ± σ: r_y.x" in text
+    from boxplus.calib.camera_imu_cli import _kalibr_imu_model
+
+    doc = _kalibr_imu_model(cal, 0)
+    assert doc["model"] == "scale-misalignment-size-effect" and doc["accelerometers"]["rx_i"] == [0, 0, 0]
+    np.testing.assert_allclose([doc["accelerometers"]["ry_i"], doc["accelerometers"]["rz_i"]],
+                               cal.accel_size_effect, rtol=1e-15)

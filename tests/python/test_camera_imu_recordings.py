@@ -247,6 +247,7 @@ def test_the_command_line_places_a_second_imu(recording, tmp_path, capsys):
     assert np.all(np.abs(err) < 4 * np.array(own["std"]["imu0_from_imu[1]"]))
     assert np.linalg.norm(err[:3]) < 5e-3
     assert doc["imu1"]["update_rate"] == pytest.approx(200.0) and doc["imu0"]["time_offset"] == 0.0
+    assert doc["imu0"]["model"] == doc["imu1"]["model"] == "calibrated"  # no own model estimated
     # one clock in the simulation: the estimated offset is 0 within 4σ
     assert abs(doc["imu1"]["time_offset"]) < 4 * own["std"]["imu_time_offset[1]"][0]
     # the noise the fit assumed, as densities: imu.yaml's own values (its rate is the data's)
@@ -608,8 +609,15 @@ def test_rendered_rolling_shutter_images_give_the_line_delay(tmp_path, capsys):
     common = [str(folder), "--intrinsics", str(folder / "calibration.yml"), "--target",
               str(folder / "target.yaml"), "--imu", str(folder / "imu.yaml"), "--pixel-sigma", "0.3",
               "--quiet", "--no-plots"]
-    assert main([*common, "--rolling-shutter", "--out", str(tmp_path / "rs")]) == 0
+    # (with the IMU's own model too: one IMU, so Kalibr's imu file exists for it alone)
+    assert main([*common, "--rolling-shutter", "--imu-intrinsics", "--out", str(tmp_path / "rs")]) == 0
     own = yaml.safe_load((tmp_path / "rs" / "camera_imu.yaml").read_text())
+    imu = yaml.safe_load((tmp_path / "rs" / "imu-imucam.yaml").read_text())["imu0"]
+    assert imu["model"] == "scale-misalignment" and imu["rostopic"] == "/imu0"
+    for kind, key in (("gyro", "gyroscopes"), ("accel", "accelerometers")):
+        M = np.array(imu[key]["M"])  # the simulated IMU reads x + b: M = I within 4σ
+        est = np.r_[np.diag(M), M[1, 0], M[2, 0], M[2, 1]]
+        assert np.all(np.abs(est - [1, 1, 1, 0, 0, 0]) < 4 * np.array(own["std"][f"{kind}_intrinsics"])), kind
     est, sigma = own["line_delays"][0], own["std"]["line_delay[0]"][0]
     assert abs(est - ell) < 4 * sigma and abs(est - ell) < 0.1 * ell, (est, sigma)
     doc = yaml.safe_load((tmp_path / "rs" / "camchain-imucam.yaml").read_text())["cam0"]

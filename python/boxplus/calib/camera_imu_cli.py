@@ -20,6 +20,8 @@ of ``--camera-name``); ``--common-clock`` when they are triggered together (one 
 offset). More IMUs (``--imu-folder imu0 imu1``, ``--imu-topic /imu0 /imu1``) are placed
 in the first one's frame (``imu-imucam.yaml``, Kalibr's ``T_i_b``) with their clocks'
 offsets to the first one's (``time_offset``; ``--imus-common-clock`` when they share it).
+``--imu-intrinsics`` estimates every IMU's scale and misalignment (Kalibr's
+``scale-misalignment`` model, in ``imu-imucam.yaml`` too).
 ``--rolling-shutter`` estimates each camera's line delay (Kalibr's camchain has
 no field for it: it is in ``camera_imu.yaml`` and the report). It
 
@@ -309,8 +311,8 @@ def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[f
     (first IMU) into this IMU's frame, 4 × 4), the noise densities the fit assumed
     (σ per sample / √rate, Kalibr's discretisation undone) and the random walks,
     ``time_offset`` (s added to this IMU's stamps to reach the first IMU's clock, as
-    Kalibr applies it), ``update_rate`` (from the samples' median spacing)
-    and ``rostopic``."""
+    Kalibr applies it), ``update_rate`` (from the samples' median spacing),
+    ``rostopic`` and the IMU's own model (:func:`_kalibr_imu_model`)."""
     topics = (args.imu_topic or [None]) if bag else [None] * len(cal.imu_names)
     times = [np.asarray(data.imu_times), *(np.asarray(i.imu_times) for i in data.other_imus)]
     doc = {}
@@ -323,7 +325,34 @@ def _kalibr_imus(cal: Any, data: Any, args: Any, bag: bool, sigmas: list[tuple[f
             entry.update(accelerometer_random_walk=float(walks[1]), gyroscope_random_walk=float(walks[0]))
         entry.update(time_offset=float(cal.imu_time_offsets[k]), update_rate=rate,
                      rostopic=topics[k] or f"/{name}")
+        entry.update(_kalibr_imu_model(cal, k))
         doc[f"imu{k}"] = entry
+    return doc
+
+
+def _kalibr_imu_model(cal: Any, k: int) -> dict[str, Any]:
+    """IMU k's own model as Kalibr's imu YAML holds it: ``model`` "calibrated" (none
+    estimated), "scale-misalignment" with ``gyroscopes`` {M, A, C_gyro_i} and
+    ``accelerometers`` {M} — Kalibr reads ω as M C_gyro_i ω_imu + A a + b and a as
+    M a_imu + b with lower-triangular M, which is boxplus' model with C_gyro_i = I and
+    A = 0 (neither estimated) — or "scale-misalignment-size-effect" with the
+    accelerometer's ``rx_i`` (0: the x element is the origin), ``ry_i``, ``rz_i`` (m)."""
+    if not cal.imu_gyro_intrinsics:
+        return {"model": "calibrated"}
+
+    def rows(M: Any) -> list[list[float]]:
+        return [[float(v) for v in row] for row in np.asarray(M)]
+
+    doc: dict[str, Any] = {
+        "model": "scale-misalignment",
+        "gyroscopes": {"M": rows(cal.imu_gyro_intrinsics[k]), "A": rows(np.zeros((3, 3))),
+                       "C_gyro_i": rows(np.eye(3))},
+        "accelerometers": {"M": rows(cal.imu_accel_intrinsics[k])}}
+    if k == 0 and cal.accel_size_effect is not None:
+        doc["model"] = "scale-misalignment-size-effect"
+        r_y, r_z = (np.asarray(r, float) for r in cal.accel_size_effect)
+        doc["accelerometers"].update(rx_i=[0.0, 0.0, 0.0], ry_i=[float(v) for v in r_y],
+                                     rz_i=[float(v) for v in r_z])
     return doc
 
 
@@ -446,7 +475,7 @@ def main(argv: list[str] | None = None) -> int:
     io.write_yaml(out / "camera_imu.yaml", {**own, **cal.todict()})
     write_atomically(out / "report.txt", report + "\n")
     written += ["camera_imu.yaml", "report.txt"]
-    if len(cal.imu_names) > 1:
+    if len(cal.imu_names) > 1 or cal.imu_gyro_intrinsics:  # Kalibr's file holds both
         io.write_yaml(out / "imu-imucam.yaml", _kalibr_imus(cal, data, args, bag, imu_sigmas,
                                                             (gyro_walk, accel_walk)))
         written.append("imu-imucam.yaml")
