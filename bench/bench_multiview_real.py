@@ -305,9 +305,9 @@ SIMULATED_LENSES = {
     "cam_8": np.array([1380.0, 1382.0, 965.0, 535.0, -0.08, 0.06, -0.0004, 0.0002, -0.02, 0.01, 0.0, 0.0])}
 SIMULATED_NOISE = 0.3
 # the largest angle from the optical axis at which a camera records the grid (rad): the
-# fisheye's field is cut at 70°: with views out to 80° or to the image's edge (~98°)
-# OpenCV 5.1's calibrateMultiview stops in its fisheye initialisation ("Too few image
-# points can be undistorted to estimate the initial pose"), boxplus does not
+# fisheye's field is cut at 70°: with views out to 80°, 88° or the image's edge (~98°)
+# OpenCV 5.1's calibrateMultiview stopped in its fisheye initialisation on seed 0 ("Too
+# few image points can be undistorted to estimate the initial pose")
 FIELD = {"rational": np.pi / 2, "kannala_brandt": np.radians(70.0)}
 
 
