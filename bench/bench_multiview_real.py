@@ -207,19 +207,23 @@ def rig_pose(cal, cam: str):
     return M[:3, :3], M[:3, 3]
 
 
+def _between(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]):
+    """(R, T) of b_from_a from a_from_ref and b_from_ref."""
+    R = b[0] @ a[0].T
+    return R, b[1] - R @ a[1]
+
+
 def relative(cal, a: str, b: str):
     """b_from_a from the rig's cam_from_reference."""
-    Ra, Ta = rig_pose(cal, a)
-    Rb, Tb = rig_pose(cal, b)
-    R = Rb @ Ra.T
-    return R, Tb - R @ Ta
+    return _between(rig_pose(cal, a), rig_pose(cal, b))
 
 
 def opencv_relative(cv: dict[str, Any], names: list[str], a: str, b: str):
-    Ra, Ta = np.asarray(cv["R"][names.index(a)]), np.asarray(cv["T"][names.index(a)])
-    Rb, Tb = np.asarray(cv["R"][names.index(b)]), np.asarray(cv["T"][names.index(b)])
-    R = Rb @ Ra.T
-    return R, Tb - R @ Ta
+    """b_from_a from OpenCV's cam_from_first (R, T) per camera."""
+    def pose(c: str) -> tuple[np.ndarray, np.ndarray]:
+        return np.asarray(cv["R"][names.index(c)]), np.asarray(cv["T"][names.index(c)])
+
+    return _between(pose(a), pose(b))
 
 
 def shift_in_sigma(free, fixed, cam: str) -> tuple[float, float]:

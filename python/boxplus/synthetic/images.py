@@ -59,9 +59,14 @@ def render_view(target: Any, model: str, k: np.ndarray, image_size: tuple[int, i
     origin = target.image_origin(ppu)
     n = int(supersample)
     acc = np.zeros(w * h)
+    # the camera's origin in the board frame, o (3,) or one per pixel (N, 3), and the
+    # rotation of a ray into the board frame
     if isinstance(cam_from_board, SE3):
         board_from_cam = cam_from_board.inverse()
         R, o = board_from_cam.rot.R, board_from_cam.pos
+
+        def to_board(ray: np.ndarray) -> np.ndarray:
+            return ray @ R.T
     else:
         rows = list(cam_from_board)
         if len(rows) != h:
@@ -70,17 +75,15 @@ def render_view(target: Any, model: str, k: np.ndarray, image_size: tuple[int, i
         # each pixel's ray leaves from its own row's pose (pixels are row-major)
         row_of = np.repeat(np.arange(h), w)
         R_px = np.array([p.rot.R for p in per_row])[row_of]
-        o_px = np.array([p.pos for p in per_row])[row_of]
+        o = np.array([p.pos for p in per_row])[row_of]
+
+        def to_board(ray: np.ndarray) -> np.ndarray:
+            return np.einsum("nij,nj->ni", R_px, ray)
     for ray in _pixel_rays(model, tuple(np.asarray(k, float)), (w, h), n):
         with np.errstate(invalid="ignore", divide="ignore"):
-            if isinstance(cam_from_board, SE3):
-                d = ray @ R.T
-                s = -o[2] / d[:, 2]
-                p = o[:2] + s[:, None] * d[:, :2]
-            else:
-                d = np.einsum("nij,nj->ni", R_px, ray)
-                s = -o_px[:, 2] / d[:, 2]
-                p = o_px[:, :2] + s[:, None] * d[:, :2]
+            d = to_board(ray)
+            s = -o[..., 2] / d[:, 2]
+            p = o[..., :2] + s[:, None] * d[:, :2]
         ok = np.isfinite(s) & (s > 0) & np.all(np.isfinite(d), axis=1)
         val = np.full(w * h, float(background))
         val[ok] = _bilinear(tex, origin + p[ok] * ppu, background)

@@ -90,6 +90,19 @@ void ApplyIntrinsics(const T* m, const T* x, T* out) {
   out[2] = m[4] * x[0] + m[5] * x[1] + m[2] * x[2];
 }
 
+// r = W (M x + b − z): the residual of a sensor reading x through its scale and
+// misalignment m (ApplyIntrinsics), or x itself when m is null.
+template <typename T>
+void ReadingResidual(const ImuSample& s, const T* m, const T* x, const T* bias, T* r) {
+  if (m == nullptr) {
+    s.Residual(x, bias, r);
+    return;
+  }
+  T read[3];
+  ApplyIntrinsics(m, x, read);
+  s.Residual(read, bias, r);
+}
+
 class GyroFunctor {
  public:
   explicit GyroFunctor(ImuSample s) : s_(std::move(s)) {}
@@ -106,10 +119,9 @@ class GyroFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias, const T* m,
                   T* r) const {
-    T omega[3], read[3];
+    T omega[3];
     s_.Evaluate(k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
-    ApplyIntrinsics(m, omega, read);
-    s_.Residual(read, bias, r);
+    ReadingResidual(s_, m, omega, bias, r);
     return true;
   }
 
@@ -134,10 +146,9 @@ class AccelFunctor {
   template <typename T>
   bool operator()(const T* k0, const T* k1, const T* k2, const T* k3, const T* bias,
                   const T* gravity_dir, const T* m, T* r) const {
-    T f[3], read[3];
+    T f[3];
     Force(k0, k1, k2, k3, gravity_dir, f);
-    ApplyIntrinsics(m, f, read);
-    s_.Residual(read, bias, r);
+    ReadingResidual(s_, m, f, bias, r);
     return true;
   }
 
@@ -158,9 +169,7 @@ class AccelFunctor {
       LeverArmAcceleration(omega, alpha, size + 3 * (axis - 1), extra);
       f[axis] += extra[axis];
     }
-    T read[3];
-    ApplyIntrinsics(m, f, read);
-    s_.Residual(read, bias, r);
+    ReadingResidual(s_, m, f, bias, r);
     return true;
   }
 
@@ -180,10 +189,10 @@ class AccelFunctor {
 // it turns with the body and feels, besides the body's specific force, the
 // tangential and centripetal acceleration of its lever arm r. Optional blocks after
 // the fixed ones, in this order: kOffset, its time offset d (R¹; its samples are read
-// at body time t + d); kIntrinsics, its own scale and misalignment M (R⁶,
-// ApplyIntrinsics). Ceres calls the operator with as many blocks as the cost function
-// has, so the arity picks the overload and the flags say what the extra block is.
-template <bool kOffset, bool kIntrinsics>
+// at body time t + d); its own scale and misalignment M (R⁶, ApplyIntrinsics). Ceres
+// calls the operator with as many blocks as the cost function has, so the arity picks
+// the overload, and kOffset says whether a lone extra block is d or M.
+template <bool kOffset>
 class OffsetGyroFunctor {
  public:
   OffsetGyroFunctor(ImuSample s, double d0) : s_(std::move(s)), d0_(d0) {}
@@ -220,13 +229,7 @@ class OffsetGyroFunctor {
     s_.EvaluateAt(u, k0, k1, k2, k3, static_cast<T*>(nullptr), static_cast<T*>(nullptr), omega);
     QuatConjugate(body_from_imu + 3, q_inv);
     QuatRotatePoint(q_inv, omega, omega_k);
-    if (m != nullptr) {
-      T read[3];
-      ApplyIntrinsics(m, omega_k, read);
-      s_.Residual(read, bias, r);
-    } else {
-      s_.Residual(omega_k, bias, r);
-    }
+    ReadingResidual(s_, m, omega_k, bias, r);
     return true;
   }
 
@@ -234,7 +237,7 @@ class OffsetGyroFunctor {
   double d0_;
 };
 
-template <bool kOffset, bool kIntrinsics>
+template <bool kOffset>
 class OffsetAccelFunctor {
  public:
   OffsetAccelFunctor(ImuSample s, double g, double d0) : s_(std::move(s)), g_(g), d0_(d0) {}
@@ -278,13 +281,7 @@ class OffsetAccelFunctor {
     T qk_inv[4], f_k[3];
     QuatConjugate(body_from_imu + 3, qk_inv);
     QuatRotatePoint(qk_inv, f, f_k);
-    if (m != nullptr) {
-      T read[3];
-      ApplyIntrinsics(m, f_k, read);
-      s_.Residual(read, bias, r);
-    } else {
-      s_.Residual(f_k, bias, r);
-    }
+    ReadingResidual(s_, m, f_k, bias, r);
     return true;
   }
 
@@ -293,25 +290,25 @@ class OffsetAccelFunctor {
   double d0_;
 };
 
-// The cost function of an other-IMU functor F<kOffset, kIntrinsics> whose fixed blocks
-// are kFixed...: the optional blocks appended in the functors' order.
-template <template <bool, bool> class F, int... kFixed, typename... Args>
+// The cost function of an other-IMU functor F<kOffset> whose fixed blocks are
+// kFixed...: the optional blocks (d, M) appended in the functors' order.
+template <template <bool> class F, int... kFixed, typename... Args>
 std::shared_ptr<ceres::CostFunction> OtherImuCost(bool time_offset, bool intrinsics,
                                                   Args&&... args) {
   if (time_offset && intrinsics) {
-    return std::make_shared<ceres::AutoDiffCostFunction<F<true, true>, 3, kFixed..., 1, 6>>(
-        new F<true, true>(std::forward<Args>(args)...));
+    return std::make_shared<ceres::AutoDiffCostFunction<F<true>, 3, kFixed..., 1, 6>>(
+        new F<true>(std::forward<Args>(args)...));
   }
   if (time_offset) {
-    return std::make_shared<ceres::AutoDiffCostFunction<F<true, false>, 3, kFixed..., 1>>(
-        new F<true, false>(std::forward<Args>(args)...));
+    return std::make_shared<ceres::AutoDiffCostFunction<F<true>, 3, kFixed..., 1>>(
+        new F<true>(std::forward<Args>(args)...));
   }
   if (intrinsics) {
-    return std::make_shared<ceres::AutoDiffCostFunction<F<false, true>, 3, kFixed..., 6>>(
-        new F<false, true>(std::forward<Args>(args)...));
+    return std::make_shared<ceres::AutoDiffCostFunction<F<false>, 3, kFixed..., 6>>(
+        new F<false>(std::forward<Args>(args)...));
   }
-  return std::make_shared<ceres::AutoDiffCostFunction<F<false, false>, 3, kFixed...>>(
-      new F<false, false>(std::forward<Args>(args)...));
+  return std::make_shared<ceres::AutoDiffCostFunction<F<false>, 3, kFixed...>>(
+      new F<false>(std::forward<Args>(args)...));
 }
 
 // kRolling: one more block, the line delay ℓ (s per image row): the corner's row v
