@@ -15,7 +15,8 @@ Families: one camera per lens model (a fixed set of board views, noise
 re-drawn), and the projection such a camera makes (``projection[...]``: the true ray
 at a grid of pixels through the fitted intrinsics, the user's quantity where a
 prior or a curved valley decides the parameters; the double sphere with views that
-cover the whole image), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
+cover the whole image, its parameters also scored by profile-likelihood
+intervals), a stereo pair (intrinsics of both cameras and right_from_left), hand–eye
 (the example's simulator, robot and pixel noise), and the accelerometer against
 gravity (scale, bias, misalignment and imu_from_cam), camera–IMU calibration in
 motion (imu_from_cam, time offset, biases) and with two cameras (a pinhole and a
@@ -119,8 +120,13 @@ def _wide_views(model: str, n: int, seed: int = 5) -> tuple[np.ndarray, list[bp.
     return target.points(), [q.inverse() for q in poses]
 
 
-def wide_camera_family(model: str, n_views: int = 14) -> Trial:
-    """camera_family on views that cover the whole image (:func:`_wide_views`)."""
+def wide_camera_family(model: str, n_views: int = 14, profile: float | None = None) -> Trial:
+    """camera_family on views that cover the whole image (:func:`_wide_views`).
+
+    ``profile`` (a level in σ) scores each parameter by its profile-likelihood interval
+    instead of the linearised σ (:mod:`boxplus.profile`): its σ is the interval's
+    half-width on the truth's side over the level (1: the ratio; 3: |z| ≤ 3 is the
+    truth inside the 3σ interval, which need not be three 1σ intervals wide)."""
     p, views = _wide_views(model, n_views)
     k = _lens(model)
     labels = bp.calib.models.model_labels(model)
@@ -129,6 +135,9 @@ def wide_camera_family(model: str, n_views: int = 14) -> Trial:
         z = [observe(k, v, p, PIXEL_SIGMA, rng, model=model)[0] for v in views]
         cal = calibrate_mono(z, p, (640, 480), model=model, sigma=PIXEL_SIGMA)
         e, s = _error(cal.problem, cal.ids["camera"], bp.Rn(k))
+        if profile is not None:
+            widths = [cal.profile("camera", lab, level=profile).half_widths() for lab in labels]
+            s = np.array([(lo if ei > 0 else hi) / profile for ei, (lo, hi) in zip(e, widths)])
         return [f"camera.{n}" for n in labels], e, s
 
     return trial
@@ -395,6 +404,8 @@ FAMILIES: dict[str, Callable[[], Trial]] = {
     **{f"camera[{m}]": (lambda m=m: camera_family(m)) for m in LENSES},
     **{f"projection[{m}]": (lambda m=m: projection_family(m)) for m in ("opencv5", "rational")},
     "camera[double_sphere, wide]": lambda: wide_camera_family("double_sphere"),
+    "profile[double_sphere, wide]": lambda: wide_camera_family("double_sphere", profile=1.0),
+    "profile 3σ[double_sphere, wide]": lambda: wide_camera_family("double_sphere", profile=3.0),
     "projection[double_sphere, wide]": lambda: projection_family("double_sphere", wide=True),
     "stereo[opencv5]": stereo_family,
     "rig[3 cameras, radial2]": rig_family,

@@ -137,7 +137,8 @@ def test_which_cameras_are_regularised():
         ds = calibrate_mono(z, obj, SIZE, model="double_sphere", regularize=True)
     assert ds.priors == []
     # its parameters' σ is not to be trusted, the projection's is: the report says so
-    assert "curved valley" in summarise(ds, ds.report())
+    text = summarise(ds, ds.report())
+    assert "curved valley" in text and "cal.profile('camera', 'alpha')" in text
     rig = calibrate_rig({"a": [(p, obj) for p in z], "b": [(p, obj) for p in z]}, SIZE,
                         {"a": "rational", "b": "opencv5"}, known_intrinsics={"b": OPENCV5})
     assert [p.camera for p in rig.priors] == ["a"]  # b is held fixed, and opencv5

@@ -208,3 +208,16 @@ def test_a_rolling_shutter_render_reads_each_row_at_its_own_pose():
         assert s == pytest.approx(-127.5 * 2e-4 * v / 0.3, abs=0.5), shift
     with pytest.raises(ValueError, match="119 row poses for an image of 120 rows"):
         render_view(t, "pinhole", K, (160, 120), rows[:-1])
+
+
+def test_board_views_skip_pixels_outside_a_wide_lens_field():
+    # a double sphere whose image corners lie beyond its field (no ray there): the board
+    # centres drawn there are skipped instead of making a pose at NaN
+    import warnings
+
+    k = np.array([160.0, 160.0, 320.0, 240.0, -0.2, 0.6])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        poses = board_views(parse_target(TARGET), "double_sphere", k, (640, 480), 8,
+                            np.random.default_rng(5), max_tilt_deg=45.0, fill=0.95)
+    assert len(poses) == 8 and all(np.isfinite(q.t).all() for q in poses)

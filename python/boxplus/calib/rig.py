@@ -187,6 +187,15 @@ class Calibration:
         return float(np.sqrt(np.mean(np.sum(E**2, axis=1))))
 
     @_one_blas_thread
+    def profile(self, name: str, parameter: str, level: float = 1.0) -> Any:
+        """The profile-likelihood interval of one intrinsic (``name`` a camera,
+        ``parameter`` a label such as "alpha"): for the parameters whose linearised σ
+        is too narrow (a double sphere's f, ξ and α), see :mod:`boxplus.profile`."""
+        if name not in self.ids:
+            raise ValueError(f"profile: no variable '{name}' (have: {', '.join(self.ids)})")
+        return self.problem.profile(self.ids[name], parameter, level)
+
+    @_one_blas_thread
     def report(self, rescale: bool = False):
         """The :func:`boxplus.calib.report` of the solved problem; σ from the given
         corner noise unless ``rescale`` (the printed report shows both). Computed once
