@@ -21,7 +21,8 @@ point of the scan, so the user's problem is never touched. The scan walks out in
 doubling steps (¼ σ, ½ σ, 1 σ, …) until the bound is passed, then bisects. When a
 point of the scan has a *lower* cost than the estimate, the estimate was not the
 lowest minimum along θ: the result says so (``lower_minimum``) and holds the values
-there, so the user can move to it (``problem.set_value``) and solve again.
+there, so the user can move to it (``problem.set_value``) and solve again. Ctrl-C
+stops the scan (KeyboardInterrupt); the user's problem is as it was.
 
 Δχ² is in the problem's own units, so the interval uses the given noise, like
 :meth:`OptimizationProblem.std` (not the residual-rescaled σ).
@@ -126,7 +127,9 @@ class _Scan:
         q.add_prior(self.vid, Rn([c]), sigma=self.stiff, coordinates=[self.k], group="profile")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # a point far out may warn; the scan judges it
-            q.solve(self.options, check_determined=False)
+            summary = q.solve(self.options, check_determined=False)
+        if summary.termination == "interrupted":
+            raise KeyboardInterrupt  # Ctrl-C in a point's solve stops the whole scan
         self.solves += 1
         x = float(q.value(self.vid).vec[self.k])
         f = q.cost() - 0.5 * ((x - c) / self.stiff) ** 2

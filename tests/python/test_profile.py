@@ -130,3 +130,24 @@ def test_double_sphere_profile_follows_the_valley():
     assert "camera.alpha" in str(iv)
     with pytest.raises(ValueError, match="no variable 'left'"):
         cal.profile("left", "alpha")
+
+
+def test_ctrl_c_stops_the_scan_and_leaves_the_problem_as_it_was():
+    armed = []
+
+    def square(x):
+        if armed:
+            armed.append(1)
+            if len(armed) == 25:  # as Ctrl-C inside a point's solve (6 would hit its copy)
+                raise KeyboardInterrupt
+        return bp.Rn([x.vec[0] ** 2])
+
+    o = bp.OptimizationProblem()
+    t = o.add_random_var(bp.Rn([1.0]), name="theta")
+    o.add_measurement(bp.Rn([0.5]), square, [t], sigma=0.1)
+    o.solve()
+    before = o.value(t).vec.copy()
+    armed.append(1)
+    with pytest.raises(KeyboardInterrupt):
+        o.profile(t, 0)
+    assert np.array_equal(o.value(t).vec, before)
