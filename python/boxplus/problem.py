@@ -687,14 +687,14 @@ class OptimizationProblem:
         return np.sqrt(np.diag(self.covariance(vid)))
 
     def profile(self, vid: int, coordinate: int | str, level: float = 1.0,
-                options: _core.SolverOptions | None = None) -> Any:
+                options: _core.SolverOptions | None = None, search: float = 3.0) -> Any:
         """The profile-likelihood interval of one coordinate of an Rn variable: the
         values the data allow when every other variable re-adjusts, asymmetric where
         the parameters trade along a curved valley (:func:`boxplus.profile.profile_interval`;
         one solve of a copy per point, the problem itself is not changed)."""
         from boxplus.profile import profile_interval
 
-        return profile_interval(self, vid, coordinate, level, options)
+        return profile_interval(self, vid, coordinate, level, options, search)
 
     def residual(self, mid: int) -> np.ndarray:
         """Whitened residual of measurement ``mid`` at the current values."""

@@ -10,15 +10,20 @@ other variable,
 
     p(c) = min over the rest of ½ χ²(θ = c, rest),
 
-and the interval at ``level`` k is the connected set of c around the estimate θ̂
-where 2 (p(c) − p(θ̂)) ≤ k². For a linear problem it is θ̂ ± k σ exactly; in
+and the interval at ``level`` k spans the set of c where 2 (p(c) − p(θ̂)) ≤ k², the
+likelihood-ratio confidence set. For a linear problem it is θ̂ ± k σ exactly; in
 general it is asymmetric and follows the valley (Venzon & Moolgavkar 1988; the
-signed root r(c) = sign(θ̂ − c) √(2 (p(θ̂) − p(c))) is the profile's z).
+signed root r(c) = sign(θ̂ − c) √(2 (p(θ̂) − p(c))) is the profile's z). Where the
+likelihood has a second basin along θ, the set is not connected: the interval is
+its hull over the walk, which goes on past the first crossing of k² to where Δχ²
+passes the square of ``search`` (3 by default), so a basin behind a rise is inside
+the interval when its floor is below k².
 
 Each p(c) is one solve of a copy of the problem with θ held at c by a stiff prior
 (σ 10⁻⁴ of θ's linear σ, its own cost taken off), warm-started from the previous
 point of the scan, so the user's problem is never touched. The scan walks out in
-doubling steps (¼ σ, ½ σ, 1 σ, …) until the bound is passed, then bisects. When a
+steps growing by 1.5 from ¼ linear σ, finds the floor of any dip it strode over, and
+bisects at the outermost crossing. When a
 point of the scan has a *lower* cost than the estimate, the estimate was not the
 lowest minimum along θ: the result says so (``lower_minimum``) and holds the values
 there, so the user can move to it (``problem.set_value``) and solve again. Ctrl-C
@@ -44,6 +49,10 @@ if TYPE_CHECKING:
 _STIFF = 1e-4
 # The scan gives up on a side at this many linear σ (the bound is then ±inf).
 _MAX_SIGMA = 1e3
+# The walk's step factor: fine enough not to stride over a second basin along a valley.
+_STEP = 1.5
+# Golden-section steps to a dip's floor (0.618⁸ ≈ 2 % of the bracket).
+_GOLDEN = 8
 # Bisection steps between the last point inside and the first outside (2⁻⁸ of a step).
 _BISECTIONS = 8
 
@@ -106,7 +115,7 @@ def _coordinate(problem: OptimizationProblem, vid: int, coordinate: int | str) -
 
 
 class _Scan:
-    """p(c) along one coordinate, each point warm-started from the last one accepted."""
+    """p(c) along one coordinate, each point warm-started from a neighbouring one."""
 
     def __init__(self, problem: OptimizationProblem, vid: int, k: int, sigma: float, options: Any):
         self.problem, self.vid, self.k = problem, vid, k
@@ -139,42 +148,73 @@ class _Scan:
             self.lowest = (c, d, values)
         return d, values
 
-    def bound(self, estimate: float, sigma: float, side: int, level: float,
+    def bound(self, estimate: float, sigma: float, side: int, level: float, search: float,
               points: list[tuple[float, float]]) -> float:
-        """Where Δχ² first passes level² walking from the estimate towards ``side``."""
-        inside, start = 0.0, None
+        """The farthest c towards ``side`` with Δχ² ≤ level², among the points of a walk
+        out to where Δχ² passes search² (so a second basin below level² beyond a rise
+        is inside), refined by bisection against the next point out."""
+        def at(t: float, start: list[Any] | None) -> tuple[float, list[Any]]:
+            d, values = self.delta(estimate + side * t * sigma, start)
+            points.append((estimate + side * t * sigma, d))
+            return d, values
+
+        walk: list[tuple[float, float, list[Any] | None]] = [(0.0, 0.0, None)]
         t = 0.25
         while True:
-            c = estimate + side * t * sigma
-            d, values = self.delta(c, start)
-            points.append((c, d))
-            if not np.isfinite(d) or d > level * level:
+            d, values = at(t, walk[-1][2])  # from the last point: the walk follows the valley
+            walk.append((t, d, values))
+            if not np.isfinite(d) or d > search * search or t >= _MAX_SIGMA:
                 break
-            inside, start = t, values
-            if t >= _MAX_SIGMA:
-                return side * np.inf
-            t *= 2.0
-        outside = t
+            t *= _STEP
+        # a dip between three points of the walk is a basin the steps may have strode
+        # over: its floor, by golden-section search, joins the walk
+        for i in range(2, len(walk) - 1):
+            (ta, da, _), (_, db, vb), (tc, dc, _) = walk[i - 1], walk[i], walk[i + 1]
+            if db < da and db <= dc and np.isfinite(dc):
+                walk.append(self._floor(at, ta, tc, vb))
+        walk.sort(key=lambda w: w[0])
+        ins = [i for i, (_, d, _) in enumerate(walk) if np.isfinite(d) and d <= level * level]
+        last = ins[-1]
+        if last == len(walk) - 1:
+            return side * np.inf  # still inside at 1000 linear σ
+        inside, inside_values = walk[last][0], walk[last][2]
+        outside = walk[last + 1][0]
         for _ in range(_BISECTIONS):
             m = 0.5 * (inside + outside)
-            c = estimate + side * m * sigma
-            d, values = self.delta(c, start)
-            points.append((c, d))
+            d, values = at(m, inside_values)
             if np.isfinite(d) and d <= level * level:
-                inside, start = m, values
+                inside, inside_values = m, values
             else:
                 outside = m
         return estimate + side * 0.5 * (inside + outside) * sigma
 
+    @staticmethod
+    def _floor(at: Any, a: float, c: float, start: list[Any] | None) -> tuple[float, float, list[Any]]:
+        """The lowest point of p between a and c (golden-section search)."""
+        g = (np.sqrt(5.0) - 1) / 2
+        x1, x2 = c - g * (c - a), a + g * (c - a)
+        (f1, v1), (f2, v2) = at(x1, start), at(x2, start)
+        for _ in range(_GOLDEN):
+            if f1 <= f2:
+                c, x2, f2, v2 = x2, x1, f1, v1
+                x1 = c - g * (c - a)
+                f1, v1 = at(x1, v2)
+            else:
+                a, x1, f1, v1 = x1, x2, f2, v2
+                x2 = a + g * (c - a)
+                f2, v2 = at(x2, v1)
+        return (x1, f1, v1) if f1 <= f2 else (x2, f2, v2)
+
 
 def profile_interval(problem: OptimizationProblem, vid: int, coordinate: int | str,
-                     level: float = 1.0, options: Any = None) -> ProfileInterval:
+                     level: float = 1.0, options: Any = None, search: float = 3.0) -> ProfileInterval:
     """The profile-likelihood interval of one coordinate of an Rn variable at the
     current values, which should be a solved minimum (:mod:`boxplus.profile`).
 
     ``coordinate`` is an index or a label; ``level`` is in σ (Δχ² ≤ level²: 1 for the
     counterpart of ±σ, 3 for a 99.7 % interval); ``options`` are the solver's
-    settings for each point (default: the problem's defaults). Raises TypeError for a
+    settings for each point (default: the problem's defaults); ``search`` is how far
+    (in σ, at least ``level``) the walk looks for a further basin. Raises TypeError for a
     variable that is not Rn, ValueError for a fixed one, and what
     :meth:`OptimizationProblem.std` raises when the data do not determine it. A side
     the scan cannot close within 1000 linear σ is ±inf."""
@@ -186,8 +226,9 @@ def profile_interval(problem: OptimizationProblem, vid: int, coordinate: int | s
     sigma = float(problem.std(vid)[k])
     scan = _Scan(problem, vid, k, sigma, options)
     points: list[tuple[float, float]] = [(estimate, 0.0)]
-    lower = scan.bound(estimate, sigma, -1, level, points)
-    upper = scan.bound(estimate, sigma, +1, level, points)
+    search = max(float(search), float(level))
+    lower = scan.bound(estimate, sigma, -1, level, search, points)
+    upper = scan.bound(estimate, sigma, +1, level, search, points)
     result = ProfileInterval(problem.variable_name(vid) or str(vid), label, estimate, lower, upper,
                              float(level), sigma, sorted(points), solves=scan.solves)
     # a point "below" the estimate by no more than the solver's own tolerance is the same minimum

@@ -4,6 +4,8 @@ truth within its σ, and the files it writes mean what their readers — OpenCV'
 FileStorage and rectification, a ROS stereo pipeline, Kalibr — think they mean."""
 
 
+import re
+
 import numpy as np
 import pytest
 from boxplus import SE3, SO3
@@ -36,9 +38,16 @@ def test_mono_pinhole_from_a_folder_recovers_the_truth(tmp_path, capsys):
     write_views(tmp_path / "cam", t, "opencv5", PINHOLE, (640, 480), poses, noise_sigma=1.0)
     out = tmp_path / "out"
     assert main(["--target", TARGET, "--quiet", "--no-plots", "--sigma", "0.1", "--out", str(out),
-                 "--suggest", "2", str(tmp_path / "cam")]) == 0
+                 "--suggest", "2", "--profile", str(tmp_path / "cam")]) == 0
     text = capsys.readouterr().out
     assert "Capture next (--suggest 2):" in text and "  2. cam: board centre at" in text
+    # --profile: a 3σ interval for each of the 9 intrinsics; this pinhole's problem is
+    # nearly linear, so each side is close to 3 linear σ
+    rows = [line for line in text.splitlines() if "(profile, 3σ; linear σ" in line]
+    assert len(rows) == 9 and rows[0].startswith("  cam.fx = ")
+    for row in rows:
+        lo, hi, sigma = (float(v) for v in re.search(r" −(\S+) \+(\S+) .*linear σ (\S+)\)", row).groups())
+        assert 2.4 * sigma < lo < 3.6 * sigma and 2.4 * sigma < hi < 3.6 * sigma, row
     rows = (out / "suggested_views.csv").read_text().splitlines()
     assert rows[0].startswith("camera,rank,center_u_px") and len(rows) == 3
     (cam,) = io.read_opencv_yaml(out / "calibration.yml")

@@ -73,6 +73,23 @@ def test_a_lower_minimum_along_the_coordinate_is_reported_with_its_values():
     assert o.cost() <= before
 
 
+def test_a_second_basin_below_the_level_behind_a_rise_is_inside_the_interval():
+    # θ² = 1 (σ 0.7) with a prior towards −0.5: minima near ±1, the one at +1 higher by
+    # Δχ² ≈ 0.5, a rise of Δχ² ≈ 2 between them. The likelihood-ratio set at 1σ holds
+    # both basins: the interval spans them, unless the walk stops at the first rise.
+    o = bp.OptimizationProblem()
+    t = o.add_random_var(bp.Rn([-1.0]), name="theta")
+    o.add_measurement(bp.Rn([1.0]), lambda x: bp.Rn([x.vec[0] ** 2]), [t], sigma=0.7)
+    o.add_prior(t, bp.Rn([-0.5]), sigma=2.0)
+    o.solve()
+    assert o.value(t).vec[0] < -0.9
+    iv = o.profile(t, 0)
+    assert iv.upper > 1.0 and iv.lower_minimum is None
+    floor = min(d for c, d in iv.points if c > 0.5)
+    assert 0.3 < floor < 0.7
+    assert o.profile(t, 0, search=1.0).upper < 0
+
+
 def test_an_unbounded_side_is_infinite():
     # exp(−θ) = 0.5 with σ 1: as θ → ∞ the cost rises only by Δχ² = 0.25, never to 1
     o = bp.OptimizationProblem()

@@ -219,6 +219,11 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--suggest", type=int, default=0, metavar="N",
                     help="rank N board poses to capture next per camera (the worst projection σ "
                          "they would leave): suggested_views.csv and suggestions_CAMERA.png")
+    ap.add_argument("--profile", action="store_true",
+                    help="also give every free intrinsic's profile-likelihood interval at 3σ "
+                         "(held at each value, every other parameter re-adjusted: asymmetric "
+                         "where σ is not enough, e.g. a double sphere's f, ξ and α; about 40 "
+                         "solves per parameter)")
     ap.add_argument("--no-plots", action="store_true", help="write no PNGs")
     ap.add_argument("--quiet", action="store_true", help="no progress lines")
     return ap
@@ -401,8 +406,10 @@ def _write_outputs(cal: Any, file_names: dict[str, list[str]], args: Any) -> Non
     if not args.no_plots:
         written += _plots(cal, out, uncs, file_names)
     suggest_lines = _suggest(cal, rep, distance, out, args, written) if args.suggest > 0 else []
+    profile_lines = _profile(cal, args.quiet) if args.profile else []
     text = summarise(cal, rep, file_names, args.target, rect)
-    text += "\n" + "\n".join(["Projection uncertainty:", *unc_lines, *suggest_lines, *notes])
+    text += "\n" + "\n".join(["Projection uncertainty:", *unc_lines, *suggest_lines, *profile_lines,
+                              *notes])
     text += "\nwrote " + ", ".join(written + ["report.txt"]) + f" to {out}"
     full = text + "\n\nAll parameters but the board poses (those are in board_poses.csv):\n" + \
         "\n".join(line for line in str(rep).splitlines() if "world_from_" not in line)
@@ -432,6 +439,27 @@ def _suggest(cal: Any, rep: Any, distance: float, out: Path, args: Any, written:
             written.append(f"suggestions_{c}.png")
     write_atomically(out / "suggested_views.csv", suggestions_csv(every))
     written.append("suggested_views.csv")
+    return lines
+
+
+def _profile(cal: Any, quiet: bool) -> list[str]:
+    """--profile: each free intrinsic's profile-likelihood interval at 3σ, as report lines
+    (the given corner noise, as the report's σ; boxplus/profile.py)."""
+    lines = ["Profile-likelihood intervals at 3σ (each intrinsic held, every other parameter "
+             "re-adjusted; from the given corner noise):"]
+    for c in cal.view_ids:
+        vid = cal.ids[c]
+        if cal.problem.is_fixed(vid):
+            lines.append(f"  {c}: held fixed (known intrinsics)")
+            continue
+        labels = cal.problem.labels(vid)
+        if not quiet:
+            print(f"profiling {c}: {len(labels)} intrinsics", file=sys.stderr, flush=True)
+        for lab in labels:
+            try:
+                lines.append(f"  {cal.profile(c, lab, level=3.0)}")
+            except ValueError as e:
+                lines.append(f"  {c}.{lab}: no interval: {e}")
     return lines
 
 
