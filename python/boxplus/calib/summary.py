@@ -82,7 +82,8 @@ def summarise(cal: Any, report: Any, file_names: dict[str, list[str]] | None = N
             lines.append(f"  {c}: double sphere: fx, fy, ξ and α trade along a curved valley, where "
                          f"their σ is linearised and too small (1.4× on simulated wide captures, α "
                          f"more); the projection uncertainty is the figure to trust, and "
-                         f"cal.profile('{c}', 'alpha') gives a parameter's profile-likelihood interval")
+                         f"cal.profile('{c}', 'alpha') (boxplus-calib --profile) gives a parameter's "
+                         f"profile-likelihood interval")
     others = [c for c in cams if c != cal.reference]
     if others:
         lines.append(f"Extrinsics: <camera>_from_{cal.reference}, translation in the target's "
