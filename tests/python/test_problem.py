@@ -80,7 +80,9 @@ def test_sigint_during_a_solve_returns_the_best_estimate(tmp_path):
     import time
 
     p = bp.OptimizationProblem()
-    x = p.add_random_var(bp.Rn([3.0, -2.0]))
+    # far from the root, so the solve needs ~20 iterations (≥ 40 ms each): a timer
+    # thread delayed by a loaded machine still lands before convergence
+    x = p.add_random_var(bp.Rn([1000.0, -1000.0]))
 
     def slow_cube(v):
         time.sleep(0.002)
