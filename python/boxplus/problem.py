@@ -474,17 +474,7 @@ class OptimizationProblem:
         codec = self.codec(vid)
         what = f"measurement '{name}'" if name else f"prior on variable {vid}"
         if coordinates is not None:
-            if not codec.name.startswith("Rn"):
-                raise TypeError(f"{what}: coordinates= needs an Rn variable, got {codec.name}")
-            labels = self.labels(vid)
-            index = []
-            for c in coordinates:
-                if isinstance(c, str):
-                    if c not in labels:
-                        raise ValueError(f"{what}: no coordinate '{c}' (labels: {', '.join(labels)})")
-                    index.append(labels.index(c))
-                else:
-                    index.append(int(c))
+            index = self._coordinate_indices(vid, coordinates, what)
             zv = np.asarray(z.vec if isinstance(z, Rn) else z, dtype=float).reshape(-1)
             nm = noise_model(len(index), sigma, covariance, information, noise, what)
             f = _core.coordinate_prior_factor(self._core, int(vid), index, zv, nm, what)
@@ -494,6 +484,30 @@ class OptimizationProblem:
         nm = noise_model(codec.dof, sigma, covariance, information, noise, what)
         f = _core.prior_factor(self._core, int(vid), codec.to_ambient(z), nm, what)
         return self.add_factor(f, loss, name, group)
+
+    def _coordinate_indices(self, vid: int, coordinates: Sequence[int | str], what: str) -> list[int]:
+        """The indices of ``coordinates`` (indices or labels) of Rn variable ``vid``;
+        TypeError for another kind, ValueError naming the variable for an unknown one."""
+        codec = self.codec(vid)
+        name = self.variable_name(vid) or str(vid)
+        if not codec.name.startswith("Rn"):
+            raise TypeError(f"{what}: variable '{name}' is a {codec.name}; coordinates= needs an "
+                            f"Rn variable")
+        labels = self.labels(vid)
+        index = []
+        for c in coordinates:
+            if isinstance(c, str):
+                if c not in labels:
+                    raise ValueError(f"{what}: variable '{name}' has no coordinate '{c}' "
+                                     f"(labels: {', '.join(labels)})")
+                index.append(labels.index(c))
+            else:
+                k = int(c)
+                if not 0 <= k < len(labels):
+                    raise ValueError(f"{what}: variable '{name}' has coordinates "
+                                     f"0..{len(labels) - 1}, got {k}")
+                index.append(k)
+        return index
 
     @journalled
     def add_relative_pose(

@@ -95,23 +95,11 @@ class ProfileInterval:
 
 
 def _coordinate(problem: OptimizationProblem, vid: int, coordinate: int | str) -> tuple[int, str]:
-    name = problem.variable_name(vid) or str(vid)
-    codec = problem.codec(vid)
-    if not codec.name.startswith("Rn"):
-        raise TypeError(f"profile: variable '{name}' is a {codec.name}; profiles are for "
-                        f"coordinates of an Rn variable")
+    (k,) = problem._coordinate_indices(vid, [coordinate], "profile")
     if problem.is_fixed(vid):
+        name = problem.variable_name(vid) or str(vid)
         raise ValueError(f"profile: variable '{name}' is held fixed, so it has no interval")
-    labels = problem.labels(vid)
-    if isinstance(coordinate, str):
-        if coordinate not in labels:
-            raise ValueError(f"profile: variable '{name}' has no coordinate '{coordinate}' "
-                             f"(labels: {', '.join(labels)})")
-        return labels.index(coordinate), coordinate
-    k = int(coordinate)
-    if not 0 <= k < len(labels):
-        raise ValueError(f"profile: variable '{name}' has coordinates 0..{len(labels) - 1}, got {k}")
-    return k, labels[k]
+    return k, problem.labels(vid)[k]
 
 
 class _Scan:
@@ -154,8 +142,9 @@ class _Scan:
         out to where Δχ² passes search² (so a second basin below level² beyond a rise
         is inside), refined by bisection against the next point out."""
         def at(t: float, start: list[Any] | None) -> tuple[float, list[Any]]:
-            d, values = self.delta(estimate + side * t * sigma, start)
-            points.append((estimate + side * t * sigma, d))
+            c = estimate + side * t * sigma
+            d, values = self.delta(c, start)
+            points.append((c, d))
             return d, values
 
         walk: list[tuple[float, float, list[Any] | None]] = [(0.0, 0.0, None)]

@@ -214,7 +214,8 @@ def project(k: np.ndarray, p_in_cam: np.ndarray, model: str = "opencv5") -> np.n
 def rays(k: np.ndarray, uv: np.ndarray, model: str = "opencv5", iters: int = 30) -> np.ndarray:
     """Viewing rays (N, 3) of pixels uv (N, 2), the inverse of :func:`project`:
     [x, y, 1] (undistorted normalised coordinates) for the pinhole family, unit
-    vectors for the wide-angle models (whose rays may point sideways or back)."""
+    vectors for the wide-angle models (whose rays may point sideways or back); NaN
+    for a pixel outside a double sphere's field (no ray reaches it)."""
     uv = np.atleast_2d(np.asarray(uv, dtype=float))
     v = _values(k, model)
     m = (uv - [v["cx"], v["cy"]]) / [v["fx"], v["fy"]]
@@ -234,10 +235,11 @@ def rays(k: np.ndarray, uv: np.ndarray, model: str = "opencv5", iters: int = 30)
     if model == "double_sphere":
         xi, al = v["xi"], v["alpha"]
         r2 = np.sum(m**2, axis=1)
-        mz = (1 - al * al * r2) / (al * np.sqrt(1 - (2 * al - 1) * r2) + 1 - al)
-        fac = (mz * xi + np.sqrt(mz * mz + (1 - xi * xi) * r2)) / (mz * mz + r2)
-        out = fac[:, None] * np.column_stack([m, mz]) - [0, 0, xi]
-        return out / np.linalg.norm(out, axis=1, keepdims=True)
+        with np.errstate(invalid="ignore"):  # beyond r² = 1/(2α − 1): NaN, by design
+            mz = (1 - al * al * r2) / (al * np.sqrt(1 - (2 * al - 1) * r2) + 1 - al)
+            fac = (mz * xi + np.sqrt(mz * mz + (1 - xi * xi) * r2)) / (mz * mz + r2)
+            out = fac[:, None] * np.column_stack([m, mz]) - [0, 0, xi]
+            return out / np.linalg.norm(out, axis=1, keepdims=True)
     if model == "rational":
         x = m.copy()
         p1, p2 = v["p1"], v["p2"]

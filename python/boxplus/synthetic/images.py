@@ -161,8 +161,7 @@ def board_views(target: Any, model: str, k: np.ndarray, image_size: tuple[int, i
             raise ValueError(f"board_views: found {len(out)} of {n} poses with the target in the "
                              f"image; move it farther (distance) or reduce fill")
         uv = np.array([w, h]) * (0.5 + (rng.uniform(size=2) - 0.5) * fill)
-        with np.errstate(invalid="ignore"):
-            ray = rays(k, uv[None], model)[0]
+        ray = rays(k, uv[None], model)[0]
         if not np.all(np.isfinite(ray)):
             continue  # a pixel outside the lens's field (a wide lens's image corners)
         ray = ray / np.linalg.norm(ray)
