@@ -11,6 +11,7 @@ from boxplus.synthetic.pose_graphs import (
     benchmark_suite,
     generate,
     main,
+    with_near_misses,
 )
 from boxplus.synthetic.trajectories import FAMILIES
 from harness.g2o_reference import edge_errors, read_g2o_arrays
@@ -147,6 +148,30 @@ def test_outliers_are_present_in_the_stated_fraction(tmp_path, dim):
     threshold = 150.0  # P(χ²(6) > 150) < 10⁻²⁹: no inlier reaches it
     assert np.array_equal(chi2 > threshold, g.kind == OUTLIER)
     assert np.all(g.is_outlier == (g.kind == OUTLIER))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_near_misses_are_wrong_closures_a_few_sigma_off(tmp_path, dim):
+    g = generate("grid", dim, 500, noise="low", outlier_fraction=0.3, seed=2)
+    near = with_near_misses(g, 0.5, (10.0, 20.0), seed=3)
+    changed = np.any(near.measurements != g.measurements, axis=1)
+    assert not np.any(changed & ~g.is_outlier)  # inliers and odometry untouched
+    assert 0.35 < changed.sum() / g.num_outliers < 0.65
+    assert np.array_equal(near.edges, g.edges) and np.array_equal(near.kind, g.kind)
+    near.write_truth(tmp_path / "t.g2o")
+    data = read_g2o_arrays(tmp_path / "t.g2o")
+    chi2 = np.einsum("mi,ij,mj->m", e := edge_errors(data, data["poses"], "g2o"), g.information, e)
+    d = 3 if dim == 2 else 6
+    # eᵀΩe = k² χ²(d), k in [10, 20]: a χ²(d) draw is outside [0.01 (d/3), 30] with
+    # probability < 3·10⁻⁴.
+    assert np.all((chi2[changed] > 100 * 0.01 * d / 3) & (chi2[changed] < 400 * 30))
+    assert np.all(chi2[g.is_outlier & ~changed] > 150)  # the others stay random poses
+    with pytest.raises(ValueError, match="share"):
+        with_near_misses(g, 1.5, (1.0, 2.0))
+    with pytest.raises(ValueError, match="sigmas"):
+        with_near_misses(g, 0.5, (0.0, 2.0))
+    with pytest.raises(ValueError, match="sigmas"):
+        with_near_misses(g, 0.5, (3.0, 2.0))
 
 
 def test_no_closures_no_outliers_and_density_thins_closures():

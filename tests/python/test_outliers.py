@@ -134,6 +134,27 @@ def test_thresholds_follow_information_the_inliers_show_under_confident(tmp_path
     assert "# the file's information is under-confident" in (tmp_path / "wrong.txt").read_text()
 
 
+@pytest.mark.parametrize("family,factor,far", [("grid", 3000, 30), ("sphere", 20000, 70)])
+def test_thresholds_follow_information_when_many_wrong_closures_pass_in_its_units(
+        tmp_path, family, factor, far):
+    """Information far too small (parking-garage's is 2·10⁴×) and half the wrong
+    closures near misses (far/3 to far σ off): in the file's units so many of them pass
+    that the inliers' capped χ²/dof gives way. On the grid it stays near the thresholds'
+    scale (the verdict ended 6.8× the inliers' ATE, recall 0.55): the inliers' median
+    shows the scale, and that verdict stands because its inliers confirm it. On the
+    sphere the scale falls by steps and took more than three rescales (7.7× with three)."""
+    g = gen.generate(family, 3, 300, noise="low", outlier_fraction=0.5, seed=1)
+    g = gen.with_near_misses(g, 0.5, (far / 3, far), seed=1)
+    g = dataclasses.replace(g, information=g.information / factor)
+    g.write(tmp_path / "graph.g2o")
+    graph = slam.load_g2o(tmp_path / "graph.g2o")
+    summary = graph.solve()
+    assert summary.usable
+    report = graph.outlier_report
+    assert 1 / factor / 3 < report.information_scale < 3 / factor, report.information_scale
+    _assert_inliers_answer(g, graph, tmp_path)
+
+
 def test_modes_and_threshold(tmp_path):
     g = gen.generate("manhattan", 2, 300, outlier_fraction=0.2, seed=5)
     g.write(tmp_path / "g.g2o")

@@ -141,9 +141,9 @@ int PoseGraph::ImplausibleClosure(double* excess) const {
   return most > 1 ? worst : -1;
 }
 
-double PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
-                              const std::vector<char>& judged,
-                              const std::vector<char>& inlier) const {
+PoseGraph::InlierScales PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
+                                               const std::vector<char>& judged,
+                                               const std::vector<char>& inlier) const {
   // The inliers' χ²/dof, each edge's χ² capped at kImplausibleClosureMargin
   // times its Bonferroni bound (χ²(d) at 1 − kImplausibleClosureFalseAlarm /
   // edges, as ImplausibleClosure judges a closure) times the scale itself: a
@@ -163,7 +163,8 @@ double PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
     dof += dims.back();
   }
   dof -= FreeTangentSize();
-  if (!(dof > 0)) return std::numeric_limits<double>::quiet_NaN();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!(dof > 0)) return {kNaN, kNaN};
   double bound[7] = {};
   std::vector<double> cap(chi2.size());
   for (size_t i = 0; i < chi2.size(); ++i) {
@@ -182,7 +183,16 @@ double PoseGraph::InlierScale(const std::vector<Eigen::VectorXd>& x,
     scale = next;
     if (settled) break;
   }
-  return scale;
+  // The median of χ²/median(χ²(d)) over the inliers, times the residuals'
+  // dimensions over their degrees of freedom (the estimate takes its share
+  // of every residual: a chain's odometry fits to about 0): it stands while
+  // fewer than half of them are wrong, where the capped mean gives way once
+  // more wrong closures than about d / (its cap) of the edges are kept.
+  std::vector<double> ratio(chi2.size());
+  for (size_t i = 0; i < chi2.size(); ++i) ratio[i] = chi2[i] / ChiSquaredQuantile(dims[i], 0.5);
+  const auto middle = ratio.begin() + static_cast<std::ptrdiff_t>(ratio.size() / 2);
+  std::nth_element(ratio.begin(), middle, ratio.end());
+  return {scale, *middle * (dof + FreeTangentSize()) / dof};
 }
 
 SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
@@ -435,11 +445,19 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
   for (int r = 0; r < kMaxRescales && result.rounds > 0 && !result.failed && result.solve.usable &&
                   !interrupted;
        ++r) {
-    const double sigma2 = InlierScale(result.x, judged, result.inlier);
-    if (!(sigma2 < kUnderConfidentScale * scale)) break;
+    const InlierScales inliers = InlierScale(result.x, judged, result.inlier);
+    double sigma2 = inliers.capped_mean;
+    const bool by_median = !(sigma2 < kUnderConfidentScale * scale);
+    if (by_median) sigma2 = inliers.median;
+    if (!(sigma2 < kUnderConfidentScale * scale && sigma2 > 0)) break;
     Attempt next = graduate(sigma2);
     rounds += next.rounds;
     if (next.rounds == 0 || next.failed || !next.solve.usable || interrupted) break;
+    // Heavy-tailed inliers also put the median far below the capped mean: a
+    // verdict at the median's scale stands only if the inliers it keeps show
+    // no larger a scale (a file's wrong closures gone, as parking-garage's);
+    // rejecting true closures instead bends the estimate and raises it.
+    if (by_median && !(InlierScale(next.x, judged, next.inlier).capped_mean <= sigma2)) break;
     result = std::move(next);
     scale = sigma2;
   }
