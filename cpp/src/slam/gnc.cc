@@ -165,14 +165,19 @@ PoseGraph::InlierScales PoseGraph::InlierScale(const std::vector<Eigen::VectorXd
   dof -= FreeTangentSize();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   if (!(dof > 0)) return {kNaN, kNaN};
+  // Per error dimension (each quantile a bisection: once, not per edge).
   double bound[7] = {};
+  double median[7] = {};
   std::vector<double> cap(chi2.size());
+  std::vector<double> ratio(chi2.size());  // χ² over χ²(d)'s median
   for (size_t i = 0; i < chi2.size(); ++i) {
-    double& b = bound[dims[i]];
-    if (b == 0) {
-      b = kImplausibleClosureMargin * BonferroniBound(dims[i], chi2.size());
+    const int d = dims[i];
+    if (bound[d] == 0) {
+      bound[d] = kImplausibleClosureMargin * BonferroniBound(d, chi2.size());
+      median[d] = ChiSquaredQuantile(d, 0.5);
     }
-    cap[i] = b;
+    cap[i] = bound[d];
+    ratio[i] = chi2[i] / median[d];
   }
   double scale = std::accumulate(chi2.begin(), chi2.end(), 0.0) / dof;
   for (int iteration = 0; iteration < 100 && std::isfinite(scale) && scale > 0; ++iteration) {
@@ -188,8 +193,6 @@ PoseGraph::InlierScales PoseGraph::InlierScale(const std::vector<Eigen::VectorXd
   // of every residual: a chain's odometry fits to about 0): it stands while
   // fewer than half of them are wrong, where the capped mean gives way once
   // more wrong closures than about d / (its cap) of the edges are kept.
-  std::vector<double> ratio(chi2.size());
-  for (size_t i = 0; i < chi2.size(); ++i) ratio[i] = chi2[i] / ChiSquaredQuantile(dims[i], 0.5);
   const auto middle = ratio.begin() + static_cast<std::ptrdiff_t>(ratio.size() / 2);
   std::nth_element(ratio.begin(), middle, ratio.end());
   return {scale, *middle * (dof + FreeTangentSize()) / dof};
@@ -442,10 +445,15 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
   Attempt result = graduate(1.0);
   double scale = 1.0;
   int rounds = result.rounds;
+  // The result's scales, when the median's check already measured them.
+  InlierScales measured{};
+  bool have_measured = false;
   for (int r = 0; r < kMaxRescales && result.rounds > 0 && !result.failed && result.solve.usable &&
                   !interrupted;
        ++r) {
-    const InlierScales inliers = InlierScale(result.x, judged, result.inlier);
+    const InlierScales inliers =
+        have_measured ? measured : InlierScale(result.x, judged, result.inlier);
+    have_measured = false;
     double sigma2 = inliers.capped_mean;
     const bool by_median = !(sigma2 < kUnderConfidentScale * scale);
     if (by_median) sigma2 = inliers.median;
@@ -457,7 +465,11 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     // verdict at the median's scale stands only if the inliers it keeps show
     // no larger a scale (a file's wrong closures gone, as parking-garage's);
     // rejecting true closures instead bends the estimate and raises it.
-    if (by_median && !(InlierScale(next.x, judged, next.inlier).capped_mean <= sigma2)) break;
+    if (by_median) {
+      measured = InlierScale(next.x, judged, next.inlier);
+      if (!(measured.capped_mean <= sigma2)) break;
+      have_measured = true;
+    }
     result = std::move(next);
     scale = sigma2;
   }
