@@ -37,6 +37,11 @@ log-uniform factor in [1/10, 10]; 2D/3D, 5–50 % wrong closures.
 near misses (``boxplus.synthetic.pose_graphs.with_near_misses``): so many pass χ²
 thresholds in the file's units that the inliers' capped χ²/dof gives way.
 
+``--set sparse``: few loop closures (5–10 % of the candidates) and a noisy odometry,
+2D random walk and Manhattan, 3D sphere at 10³ poses, 5–50 % wrong, two seeds each:
+the path between a closure's ends drifts, and eᵀΩe at an estimate without the
+closure charges it with that drift (MIT's graph is such a one).
+
 Columns: ATE (m, RMS position error after alignment to the truth), ATE over
 the inlier-only ATE, precision and recall of the edges judged wrong (boxplus:
 the --outliers list; GTSAM: weight < ½; g2o gives no decision), time (s,
@@ -45,7 +50,7 @@ building of the problem), and boxplus' time over GTSAM GNC-TLS's. A peer's
 run stops at a cap (``--cap`` s, default 300) and is then a miss. Rows go to a
 JSON as they come; ``--summarise JSON`` prints an earlier run's table.
 
-usage: python bench/bench_outliers.py [--set quick|full|shared|scaled|nearmiss] [--only SUBSTR ...]
+usage: python bench/bench_outliers.py [--set quick|full|shared|scaled|nearmiss|sparse] [--only SUBSTR ...]
         [--max-poses N] [--cap S] [--no-peers] [--kernels K ...] [--json PATH]
         [--summarise JSON]
 """
@@ -108,6 +113,20 @@ def graph_set(name: str) -> list[dict]:
                                      information_factor=factor, near_miss_share=0.5,
                                      near_miss_sigmas=(far / 3, far)))
         return rows
+    if name == "sparse":
+        # Few loop closures and a noisy odometry: the path between a closure's ends
+        # drifts, and eᵀΩe at an estimate without the closure charges it with that drift.
+        rows = []
+        for family, dim, noise, density in (("random_walk", 2, "high", 0.05),
+                                            ("manhattan", 2, "high", 0.1),
+                                            ("sphere", 3, "medium", 0.05)):
+            for f, model in ((0.05, "random"), (0.2, "random"), (0.5, "random"),
+                             (0.2, "clustered")):
+                for seed in (1, 2):
+                    rows.append(dict(family=family, dimension=dim, num_poses=1000, noise=noise,
+                                     loop_closure_probability=density, outlier_fraction=f,
+                                     outlier_model=model, seed=seed))
+        return rows
     if name == "quick":
         shapes = [("manhattan", 2, 1000, "medium", 1.0), ("sphere", 3, 1000, "low", 1.0)]
         fractions, models = (0.0, 0.2, 0.5), ("random", "clustered")
@@ -147,6 +166,8 @@ def label(spec: dict) -> str:
         text += f"-spread{spec['information_spread']:g}"
     if spec.get("near_miss_share"):
         text += f"-nearmiss{round(100 * spec['near_miss_share'])}%"
+    if spec.get("seed", 1) != 1:
+        text += f"-seed{spec['seed']}"
     return text
 
 
@@ -488,7 +509,7 @@ def main(argv=None) -> int:
         _peer_main(sys.argv[2], sys.argv[3], int(sys.argv[4]), sys.argv[5])
         return 0
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--set", choices=("quick", "full", "shared", "scaled", "nearmiss"),
+    ap.add_argument("--set", choices=("quick", "full", "shared", "scaled", "nearmiss", "sparse"),
                     default="full")
     ap.add_argument("--shared", type=Path, default=HERE.parents[1] / "shared" / "data" / "slam")
     ap.add_argument("--only", nargs="*", default=[])

@@ -7,6 +7,9 @@
 #include <set>
 #include <utility>
 
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCore>
+
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -54,6 +57,71 @@ TEST(OutlierMode, OneSpellingEach) {
   EXPECT_EQ(OutlierModeName(OutlierMode::kAuto), "auto");
   EXPECT_THAT([] { ParseOutlierMode("dcs"); },
               ::testing::ThrowsMessage<Error>(::testing::HasSubstr("gnc-tls")));
+}
+
+// A linear least-squares problem of blocks (3 rows, 2 of 8 variables of 2
+// columns each): the innovation χ² of a block outside the estimate is the
+// rise of the minimum when it joins, solved densely, on random draws.
+TEST(InnovationChi2, IsTheRiseOfTheMinimumWhenTheBlockJoins) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  constexpr int kBlocks = 24, kVars = 8, kRows = 3, kCols = 2 * kVars;
+  for (int draw = 0; draw < 20; ++draw) {
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(kBlocks * kRows, kCols);
+    Eigen::VectorXd b(kBlocks * kRows);
+    std::vector<int> offsets;
+    for (int k = 0; k < kBlocks; ++k) {
+      offsets.push_back(k * kRows);
+      // A chain first (every variable determined), then random pairs.
+      const int u = k < kVars ? std::max(k - 1, 0) : static_cast<int>(rng() % kVars);
+      const int v = k < kVars ? k : static_cast<int>((u + 1 + rng() % (kVars - 1)) % kVars);
+      for (int r = 0; r < kRows; ++r) {
+        for (int c = 0; c < 2; ++c) {
+          J(k * kRows + r, 2 * u + c) += normal(rng);
+          J(k * kRows + r, 2 * v + c) += normal(rng);
+        }
+        b[k * kRows + r] = 3 * normal(rng);
+      }
+    }
+    offsets.push_back(kBlocks * kRows);
+    std::vector<char> in(kBlocks, 1);
+    std::vector<int> tested;
+    for (int k = kVars; k < kBlocks; k += 2) {
+      in[k] = 0;
+      tested.push_back(k);
+    }
+    auto rows_of = [&](const std::vector<char>& use) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(kBlocks * kRows);
+      for (int k = 0; k < kBlocks; ++k) {
+        if (use[k]) w.segment(k * kRows, kRows).setOnes();
+      }
+      return w;
+    };
+    // min Σ_{use} ‖J x − b‖², and its x.
+    auto minimum = [&](const std::vector<char>& use, Eigen::VectorXd* x) {
+      const Eigen::VectorXd w = rows_of(use);
+      const Eigen::MatrixXd A = w.asDiagonal() * J;
+      *x = (A.transpose() * A).ldlt().solve(A.transpose() * (w.asDiagonal() * b));
+      return (w.asDiagonal() * (J * *x - b)).squaredNorm();
+    };
+    Eigen::VectorXd x;
+    const double base = minimum(in, &x);
+    const Eigen::VectorXd r = J * x - b;
+    const std::vector<double> chi2 = InnovationChi2(J.sparseView(), r, offsets, in, tested);
+    ASSERT_EQ(chi2.size(), tested.size());
+    for (size_t i = 0; i < tested.size(); ++i) {
+      std::vector<char> joined = in;
+      joined[tested[i]] = 1;
+      Eigen::VectorXd y;
+      const double rise = minimum(joined, &y) - base;
+      EXPECT_NEAR(chi2[i], rise, 1e-9 * std::max(1.0, rise)) << draw << " " << tested[i];
+      EXPECT_LE(chi2[i], r.segment(tested[i] * kRows, kRows).squaredNorm() * (1 + 1e-12));
+    }
+  }
+  // Blocks not outside the estimate, or offsets that do not fit, are refused.
+  const Eigen::SparseMatrix<double> J = Eigen::MatrixXd::Identity(3, 3).sparseView();
+  EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 3}, {1}, {0}), Error);
+  EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 2}, {0}, {0}), Error);
 }
 
 // Two laps of a circle of n poses (σ 2 cm, 0.5°), a loop closure from every

@@ -54,10 +54,20 @@
 // under them; after a verdict whose inliers' χ²/dof is below half the scale
 // the thresholds had, GNC graduates again with c̄² times that χ²/dof
 // (PoseGraph::InlierScale, kUnderConfidentScale in pose_graph.h).
+//
+// eᵀΩe at the inliers' optimum charges a rejected closure with the drift of
+// the path between its ends, which the inliers determine loosely on a sparse
+// graph: the verdict in the file's units (before its inliers' scale is
+// measured) and the final verdict readmit, in stages, the rejected closures
+// whose innovation χ² (InnovationChi2 below: the rise of the inliers' χ² if
+// it joined them) is within the keep threshold (PoseGraph::Readmit, gnc.cc).
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 namespace boxplus::slam {
 
@@ -124,6 +134,20 @@ std::string FormatOutliers(const OutlierReport& report, const std::string& sourc
 // The p-quantile of χ²(dof) (bisection on the regularised lower incomplete
 // gamma function; exact to 1e-10 relative).
 double ChiSquaredQuantile(int dof, double p);
+
+// Innovation χ² of the row blocks `tested` of a least-squares problem,
+// against the blocks with in_estimate[k] (block k: rows offsets[k] …
+// offsets[k + 1] − 1 of the whitened `jacobian` and `residuals`, evaluated
+// at the optimum of the blocks in the estimate):
+//   rₖᵀ (I + Aₖ H⁻¹ Aₖᵀ)⁻¹ rₖ,  H = Σ_{in estimate} AⱼᵀAⱼ,
+// the rise of the minimum of Σ ‖rⱼ‖² if block k joined (exact for a linear
+// problem; the innovation of a Kalman update, Bar-Shalom, Li and
+// Kirubarajan 2001, §5.2). NaN for every block when H does not factorise.
+std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
+                                   const Eigen::VectorXd& residuals,
+                                   const std::vector<int>& offsets,
+                                   const std::vector<char>& in_estimate,
+                                   const std::vector<int>& tested);
 
 // TLS / GM weight of a residual s = eᵀΩe / c̄² at control parameter μ.
 double TlsWeight(double s, double mu);

@@ -189,6 +189,24 @@ class PoseGraph {
   };
   InlierScales InlierScale(const std::vector<Eigen::VectorXd>& x, const std::vector<char>& judged,
                            const std::vector<char>& inlier) const;
+  // For each edge in `tested` (graph indices, loop closures not in the
+  // estimate): the rise of the χ² of the edges with in_estimate[k] when it
+  // joins them, linearised at x, their optimum: rᵀ(I + A H⁻¹ Aᵀ)⁻¹ r with
+  // the edge's whitened residual r and Jacobian A and the inliers' H
+  // (closure_innovation.cc). NaN where it cannot be computed (a robust
+  // kernel, H singular). Leaves the problem's values at x.
+  std::vector<double> ClosureInnovations(const std::vector<Eigen::VectorXd>& x,
+                                         const std::vector<char>& in_estimate,
+                                         const std::vector<int>& tested);
+  // Readmits, in stages, the closures GNC rejected (candidates with
+  // !inlier[k]) whose innovation χ² is within the verdict's bound (scale ×
+  // χ²(d) at the keep probability), solves the inliers with them from x and
+  // drops for good those then above the bound (closure_innovation.cc); x,
+  // inlier, weight and summary change only if one stays. Returns how many
+  // stayed.
+  int Readmit(const std::vector<char>& judged, const std::vector<int>& candidates, double scale,
+              const CountedSolve& solve, const bool& interrupted, std::vector<Eigen::VectorXd>* x,
+              std::vector<char>* inlier, std::vector<double>* weight, SolveSummary* summary);
   // Σ tangent sizes of the vertices not held fixed (the estimated dimensions).
   int FreeTangentSize() const;
   // Copies the current values into another graph with the same vertices.
