@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -150,21 +151,12 @@ int PoseGraph::Readmit(const std::vector<char>& judged, const std::vector<int>& 
   constexpr int kReadmitIterations = 25;
   auto optimum = [&](const std::vector<char>& kept, std::vector<Eigen::VectorXd>* y,
                      SolveSummary* r) {
-    io::Graph sub = graph_;
-    sub.edges.clear();
-    for (int k = 0; k < m; ++k) {
-      if (!judged[k] || kept[k]) sub.edges.push_back(graph_.edges[k]);
-    }
-    PoseGraphOptions plain = options_;
-    plain.robust = "none";
-    PoseGraph w(std::move(sub), plain, Weighted{});
-    for (size_t i = 0; i < var_of_vertex_.size(); ++i) {
-      w.problem_.SetFixed(w.var_of_vertex_[i], problem_.IsFixed(var_of_vertex_[i]));
-    }
-    w.SetValues(*x);
-    *r = solve(w.problem_, kReadmitIterations);
+    std::vector<char> keep(m);
+    for (int k = 0; k < m; ++k) keep[k] = !judged[k] || kept[k];
+    const std::unique_ptr<PoseGraph> w = Subgraph(keep, *x);
+    *r = solve(w->problem_, kReadmitIterations);
     if (!r->usable || r->termination != "convergence") return false;
-    *y = w.Values();
+    *y = w->Values();
     return true;
   };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -198,6 +199,23 @@ PoseGraph::InlierScales PoseGraph::InlierScale(const std::vector<Eigen::VectorXd
   return {scale, *middle * (dof + FreeTangentSize()) / dof};
 }
 
+std::unique_ptr<PoseGraph> PoseGraph::Subgraph(const std::vector<char>& keep,
+                                               const std::vector<Eigen::VectorXd>& x) const {
+  io::Graph sub = graph_;
+  sub.edges.clear();
+  for (size_t k = 0; k < graph_.edges.size(); ++k) {
+    if (keep[k]) sub.edges.push_back(graph_.edges[k]);
+  }
+  PoseGraphOptions plain = options_;
+  plain.robust = "none";
+  std::unique_ptr<PoseGraph> w(new PoseGraph(std::move(sub), plain, Weighted{}));
+  for (size_t i = 0; i < var_of_vertex_.size(); ++i) {
+    w->problem_.SetFixed(w->var_of_vertex_[i], problem_.IsFixed(var_of_vertex_[i]));
+  }
+  w->SetValues(x);
+  return w;
+}
+
 SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
                                  const CountedSolve& solve, const bool& interrupted) {
   const OutlierOptions& opt = outlier_options_;
@@ -251,7 +269,7 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     int readmitted = 0;  // closures readmitted by their innovation
     bool heard = false;  // Readmit ran on this verdict
   };
-  auto graduate = [&](double scale, bool readmit) {
+  auto graduate = [&](double scale) {
     Attempt a;
     std::vector<double> threshold(m);
     for (int k = 0; k < m; ++k) {
@@ -268,22 +286,15 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     std::unique_ptr<PoseGraph> w;
     std::vector<int> in_problem;  // graph edge of each of w's edges
     auto rebuild = [&] {
-      io::Graph sub = graph_;
-      sub.edges.clear();
+      std::vector<char> keep(m, 0);
       in_problem.clear();
       for (int k = 0; k < m; ++k) {
         if (weight[k] > 0.0) {
-          sub.edges.push_back(graph_.edges[k]);
+          keep[k] = 1;
           in_problem.push_back(k);
         }
       }
-      PoseGraphOptions plain = options_;
-      plain.robust = "none";
-      w.reset(new PoseGraph(std::move(sub), plain, Weighted{}));
-      for (size_t i = 0; i < var_of_vertex_.size(); ++i) {
-        w->problem_.SetFixed(w->var_of_vertex_[i], problem_.IsFixed(var_of_vertex_[i]));
-      }
-      w->SetValues(x);
+      w = Subgraph(keep, x);
     };
     auto push_weights = [&] {
       for (size_t j = 0; j < in_problem.size(); ++j) w->edge_weights_[j] = weight[in_problem[j]];
@@ -434,11 +445,6 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
           residuals();
         }
       }
-      if (readmit && !interrupted && final_solve.usable) {
-        a.readmitted = Readmit(judged, candidates, scale, solve, interrupted, &x, &inlier, &weight,
-                               &final_solve);
-        a.heard = true;
-      }
     }
     return a;
   };
@@ -465,7 +471,15 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
   // with half its closures wrong, hearing all six verdicts of its rescales
   // took 1.9× the time, and hearing the median's refused verdicts made
   // CSAIL with 5 % wrong closures 1.26× slower.
-  Attempt result = graduate(1.0, true);
+  // Readmit hears a verdict that has one: GNC ran and its solves did not fail.
+  auto hear = [&](double at, Attempt* a) {
+    if (a->heard || a->rounds == 0 || a->failed || !a->solve.usable || interrupted) return;
+    a->readmitted = Readmit(judged, candidates, at, solve, interrupted, &a->x, &a->inlier,
+                            &a->weight, &a->solve);
+    a->heard = true;
+  };
+  Attempt result = graduate(1.0);
+  hear(1.0, &result);
   double scale = 1.0;
   int rounds = result.rounds;
   // The result's scales, when the median's check already measured them.
@@ -481,7 +495,7 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     const bool by_median = !(sigma2 < kUnderConfidentScale * scale);
     if (by_median) sigma2 = inliers.median;
     if (!(sigma2 < kUnderConfidentScale * scale && sigma2 > 0)) break;
-    Attempt next = graduate(sigma2, false);
+    Attempt next = graduate(sigma2);
     rounds += next.rounds;
     if (next.rounds == 0 || next.failed || !next.solve.usable || interrupted) break;
     // Heavy-tailed inliers also put the median far below the capped mean: a
@@ -493,9 +507,7 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     if (by_median) {
       measured = InlierScale(next.x, judged, next.inlier);
       if (!(measured.capped_mean <= sigma2)) break;
-      next.readmitted = Readmit(judged, candidates, sigma2, solve, interrupted, &next.x,
-                                &next.inlier, &next.weight, &next.solve);
-      next.heard = true;
+      hear(sigma2, &next);
       if (interrupted) break;
       if (next.readmitted > 0) measured = InlierScale(next.x, judged, next.inlier);
       if (!(measured.capped_mean <= sigma2)) break;
@@ -504,10 +516,7 @@ SolveSummary PoseGraph::SolveGnc(OutlierMode mode, const SolveSummary& first,
     result = std::move(next);
     scale = sigma2;
   }
-  if (!result.heard && result.rounds > 0 && !result.failed && result.solve.usable && !interrupted) {
-    result.readmitted = Readmit(judged, candidates, scale, solve, interrupted, &result.x,
-                                &result.inlier, &result.weight, &result.solve);
-  }
+  hear(scale, &result);
   const int readmitted = result.readmitted;
   outlier_report_.rounds = rounds;
   outlier_report_.information_scale = scale;

@@ -168,6 +168,11 @@ class PoseGraph {
   PoseGraph(io::Graph graph, const PoseGraphOptions& options, Weighted);
   PoseGraph(io::Graph graph, const PoseGraphOptions& options, bool weighted);
   std::unique_ptr<double[]> edge_weights_;
+  // The weighted least-squares copy (robust kernel "none") of the edges with
+  // keep[k], the same vertices held fixed, at x: GNC's weighted problem and
+  // the inliers' re-solves (gnc.cc, closure_innovation.cc).
+  std::unique_ptr<PoseGraph> Subgraph(const std::vector<char>& keep,
+                                      const std::vector<Eigen::VectorXd>& x) const;
   // Runs a solve of `problem` as a part of this Solve's one run (iterations
   // and time counted on); `max_iterations` > 0 caps it.
   using CountedSolve = std::function<SolveSummary(Problem& problem, int max_iterations)>;
