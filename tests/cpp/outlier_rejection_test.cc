@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 
 #include <gmock/gmock.h>
@@ -122,6 +123,99 @@ TEST(InnovationChi2, IsTheRiseOfTheMinimumWhenTheBlockJoins) {
   const Eigen::SparseMatrix<double> J = Eigen::MatrixXd::Identity(3, 3).sparseView();
   EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 3}, {1}, {0}), Error);
   EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 2}, {0}, {0}), Error);
+}
+
+// A 3D chain of n poses (vertex 0 held by the gauge) with random closures,
+// linearised away from any optimum: the floor is a lower bound of the
+// innovation χ² of every closure, and equals it where the chain is all the
+// estimate knows of the closure's ends, whichever two poses they are
+// (the gauge's vertex does not have to be one of them).
+TEST(InnovationChi2Floor, BoundsTheInnovationAndIsExactOnAChain) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  constexpr int n = 40;
+  auto pose = [&](double spread) {
+    Eigen::Matrix<double, 7, 1> x;
+    const Eigen::Quaterniond q =
+        Eigen::Quaterniond(Eigen::AngleAxisd(spread * normal(rng), Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(spread * normal(rng), Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(spread * normal(rng), Eigen::Vector3d::UnitZ()));
+    x << spread * normal(rng), spread * normal(rng), spread * normal(rng), q.x(), q.y(), q.z(),
+        q.w();
+    return Eigen::VectorXd(x);
+  };
+  for (int draw = 0; draw < 4; ++draw) {
+    io::Graph g;
+    g.dimension = 3;
+    for (int i = 0; i < n; ++i) {
+      io::Vertex v;
+      v.id = i;
+      v.kind = io::VertexKind::kSE3;
+      v.estimate = pose(1.0);
+      g.AddVertex(v);
+    }
+    Eigen::Matrix<double, 6, 6> info = Eigen::Matrix<double, 6, 6>::Identity();
+    info.diagonal() << 50, 80, 20, 400, 900, 300;
+    info(0, 1) = info(1, 0) = 10;
+    auto add = [&](int a, int b) {
+      io::Edge e;
+      e.kind = io::EdgeKind::kSE3;
+      e.from = a;
+      e.to = b;
+      e.measurement = pose(0.5);
+      e.information = info;
+      g.AddEdge(e);
+    };
+    for (int i = 0; i + 1 < n; ++i) add(i, i + 1);
+    // Closures between random poses; every other one joins the estimate.
+    std::vector<char> in(n - 1, 1);
+    std::vector<int> tested;
+    for (int c = 0; c < 30; ++c) {
+      const int a = static_cast<int>(rng() % n);
+      const int b = static_cast<int>((a + 1 + rng() % (n - 1)) % n);
+      add(a, b);
+      in.push_back(c % 2 == 0);
+      if (c % 2) tested.push_back(static_cast<int>(g.edges.size()) - 1);
+    }
+    PoseGraph graph(g);
+    Problem& problem = graph.problem();
+    const SparseJacobianEvaluation j = problem.EvaluateSparseJacobian();
+    const int m = static_cast<int>(g.edges.size());
+    std::vector<int> offsets(m + 1, 0);
+    for (int k = 0; k < m; ++k) offsets[k + 1] = offsets[k] + problem.residual_size(k);
+    std::vector<int> column(n, -1), tangent(n, 6);
+    for (size_t q = 0; q < j.variables.size(); ++q) {
+      for (int i = 0; i < n; ++i) {
+        if (graph.variable_at(i) == j.variables[q]) column[i] = j.column_offsets[q];
+      }
+    }
+    ASSERT_EQ(column[0], -1);  // the gauge
+    const std::vector<double> exact = InnovationChi2(j.jacobian, j.residuals, offsets, in, tested);
+    const std::vector<double> floor =
+        InnovationChi2Floor(g, column, tangent, j.jacobian, j.residuals, offsets, in, tested);
+    int bounded = 0;
+    for (size_t i = 0; i < tested.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(exact[i]));
+      if (std::isnan(floor[i])) continue;  // its path crosses the gauge's vertex
+      EXPECT_LE(floor[i], exact[i] * (1 + 1e-9)) << draw << " " << tested[i];
+      EXPECT_GT(floor[i], 0.0);
+      ++bounded;
+    }
+    EXPECT_GE(bounded, 5) << draw;
+
+    // The chain alone: exact, ends anywhere.
+    std::vector<char> chain(m, 0);
+    std::fill_n(chain.begin(), n - 1, 1);
+    std::vector<int> all;
+    for (int k = n - 1; k < m; ++k) all.push_back(k);
+    const std::vector<double> alone = InnovationChi2(j.jacobian, j.residuals, offsets, chain, all);
+    const std::vector<double> path =
+        InnovationChi2Floor(g, column, tangent, j.jacobian, j.residuals, offsets, chain, all);
+    for (size_t i = 0; i < all.size(); ++i) {
+      const io::Edge& e = g.edges[all[i]];
+      EXPECT_NEAR(path[i], alone[i], 1e-8 * alone[i]) << draw << " " << e.from << " " << e.to;
+    }
+  }
 }
 
 // Two laps of a circle of n poses (σ 2 cm, 0.5°), a loop closure from every

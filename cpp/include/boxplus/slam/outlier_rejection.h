@@ -69,6 +69,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "boxplus/io/g2o.h"
+
 namespace boxplus::slam {
 
 // What PoseGraph::Solve does about wrong loop closures.
@@ -148,6 +150,22 @@ std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
                                    const std::vector<int>& offsets,
                                    const std::vector<char>& in_estimate,
                                    const std::vector<int>& tested);
+
+// A lower bound on InnovationChi2 of each tested block that is a
+// pose-to-pose edge of `graph` (block k = graph.edges[k]), cheap enough to
+// screen with: the same expression with H replaced by the information of
+// one path of pose-to-pose edges in the estimate between the closure's
+// ends (the fewest edges). Marginal covariance only shrinks as
+// measurements join, so the path's relative covariance of the ends is at
+// least the estimate's. NaN where there is no such path, or a vertex on it
+// other than the one it starts from is held fixed (column_of_vertex[v] < 0:
+// not among the Jacobian's columns; otherwise its first column, and
+// tangent_of_vertex[v] of them).
+std::vector<double> InnovationChi2Floor(
+    const io::Graph& graph, const std::vector<int>& column_of_vertex,
+    const std::vector<int>& tangent_of_vertex, const Eigen::SparseMatrix<double>& jacobian,
+    const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+    const std::vector<char>& in_estimate, const std::vector<int>& tested);
 
 // TLS / GM weight of a residual s = eᵀΩe / c̄² at control parameter μ.
 double TlsWeight(double s, double mu);

@@ -199,10 +199,13 @@ class PoseGraph {
   // joins them, linearised at x, their optimum: rᵀ(I + A H⁻¹ Aᵀ)⁻¹ r with
   // the edge's whitened residual r and Jacobian A and the inliers' H
   // (closure_innovation.cc). NaN where it cannot be computed (a robust
-  // kernel, H singular). Leaves the problem's values at x.
+  // kernel, H singular). Where a path of inliers between its ends already
+  // shows it above bound[i], that lower bound instead (still above it).
+  // Leaves the problem's values at x.
   std::vector<double> ClosureInnovations(const std::vector<Eigen::VectorXd>& x,
                                          const std::vector<char>& in_estimate,
-                                         const std::vector<int>& tested);
+                                         const std::vector<int>& tested,
+                                         const std::vector<double>& bound);
   // Readmits, in stages, the closures GNC rejected (candidates with
   // !inlier[k]) whose innovation χ² is within the verdict's bound (scale ×
   // χ²(d) at the keep probability), solves the inliers with them from x and
