@@ -519,6 +519,65 @@ SparseJacobianEvaluation Problem::SparseJacobian() {
   out.jacobian.resize(rows, cols);
   out.residuals.setZero(rows);
   if (rows == 0 || cols == 0) return out;
+  // Without robust losses, from the cost functions directly: Ceres'
+  // Evaluate builds a program and an evaluator for each call, most of the
+  // time on a pose graph's (18 ms of 21 on parking-garage's 6275 edges).
+  bool plain = true;
+  for (const Measurement& m : meas_) plain = plain && !m.loss;
+  if (plain) {
+    std::vector<int> column(vars_.size(), -1);
+    for (size_t q = 0; q < out.variables.size(); ++q)
+      column[out.variables[q]] = out.column_offsets[q];
+    hooks_->PrepareForEvaluation(true, true);
+    // Each free variable's Plus Jacobian (ambient × tangent) at its value.
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> plus(
+        vars_.size());
+    for (int v : out.variables) {
+      const Variable& var = *vars_[v];
+      if (var.euclidean) continue;
+      plus[v].resize(var.manifold->AmbientSize(), var.manifold->TangentSize());
+      if (!var.manifold->PlusJacobian(var.data.get(), plus[v].data())) {
+        throw ::boxplus::Error("evaluating the Jacobian failed: the Plus Jacobian of variable '" +
+                               var.name + "'");
+      }
+    }
+    std::vector<Eigen::Triplet<double>> entries;
+    std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> ambient;
+    std::vector<const double*> values;
+    std::vector<double*> pointers;
+    int row = 0;
+    for (size_t id = 0; id < meas_.size(); ++id) {
+      const Measurement& m = meas_[id];
+      const int d = m.cost->num_residuals();
+      const std::vector<int32_t>& sizes = m.cost->parameter_block_sizes();
+      values.clear();
+      pointers.clear();
+      ambient.resize(m.vars.size());
+      for (size_t b = 0; b < m.vars.size(); ++b) {
+        values.push_back(vars_[m.vars[b]]->data.get());
+        ambient[b].resize(d, sizes[b]);
+        pointers.push_back(column[m.vars[b]] >= 0 ? ambient[b].data() : nullptr);
+      }
+      if (!m.cost->Evaluate(values.data(), out.residuals.data() + row, pointers.data()) ||
+          !out.residuals.segment(row, d).allFinite()) {
+        throw ::boxplus::Error("evaluating the Jacobian failed; " + FirstNonFiniteMeasurement());
+      }
+      for (size_t b = 0; b < m.vars.size(); ++b) {
+        const int v = m.vars[b], c0 = column[v];
+        if (c0 < 0) continue;
+        const Eigen::MatrixXd J = vars_[v]->euclidean ? Eigen::MatrixXd(ambient[b])
+                                                      : Eigen::MatrixXd(ambient[b] * plus[v]);
+        for (int i = 0; i < J.rows(); ++i) {
+          for (int j = 0; j < J.cols(); ++j) {
+            if (J(i, j) != 0.0) entries.emplace_back(row + i, c0 + j, J(i, j));
+          }
+        }
+      }
+      row += d;
+    }
+    out.jacobian.setFromTriplets(entries.begin(), entries.end());
+    return out;
+  }
   double cost = 0.0;
   ceres::CRSMatrix crs;
   std::vector<double> residuals;
