@@ -62,8 +62,9 @@ TEST(OutlierMode, OneSpellingEach) {
 
 // A linear least-squares problem of blocks (3 rows, 2 of 8 variables of 2
 // columns each): the innovation χ² of a block outside the estimate is the
-// rise of the minimum when it joins, solved densely, on random draws.
-TEST(InnovationChi2, IsTheRiseOfTheMinimumWhenTheBlockJoins) {
+// rise of the minimum when it joins, and the deletion χ² of one in it the
+// drop when it leaves, solved densely, on random draws.
+TEST(InnovationChi2, IsTheRiseOfTheMinimumWhenTheBlockJoinsAndDeletionItsDrop) {
   std::mt19937 rng(5);
   std::normal_distribution<double> normal;
   constexpr int kBlocks = 24, kVars = 8, kRows = 3, kCols = 2 * kVars;
@@ -118,19 +119,35 @@ TEST(InnovationChi2, IsTheRiseOfTheMinimumWhenTheBlockJoins) {
       EXPECT_NEAR(chi2[i], rise, 1e-9 * std::max(1.0, rise)) << draw << " " << tested[i];
       EXPECT_LE(chi2[i], r.segment(tested[i] * kRows, kRows).squaredNorm() * (1 + 1e-12));
     }
+    // A block in the estimate: the drop of the minimum when it leaves.
+    std::vector<int> kept;
+    for (int k = kVars; k < kBlocks; ++k) {
+      if (in[k]) kept.push_back(k);
+    }
+    const std::vector<double> drop = DeletionChi2(J.sparseView(), r, offsets, in, kept);
+    for (size_t i = 0; i < kept.size(); ++i) {
+      std::vector<char> left = in;
+      left[kept[i]] = 0;
+      Eigen::VectorXd y;
+      const double fall = base - minimum(left, &y);
+      EXPECT_NEAR(drop[i], fall, 1e-9 * std::max(1.0, fall)) << draw << " " << kept[i];
+      EXPECT_GE(drop[i], r.segment(kept[i] * kRows, kRows).squaredNorm() * (1 - 1e-12));
+    }
   }
   // Blocks not outside the estimate, or offsets that do not fit, are refused.
   const Eigen::SparseMatrix<double> J = Eigen::MatrixXd::Identity(3, 3).sparseView();
   EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 3}, {1}, {0}), Error);
   EXPECT_THROW(InnovationChi2(J, Eigen::VectorXd::Zero(3), {0, 2}, {0}, {0}), Error);
+  EXPECT_THROW(DeletionChi2(J, Eigen::VectorXd::Zero(3), {0, 3}, {0}, {0}), Error);
 }
 
 // A 3D chain of n poses (vertex 0 held by the gauge) with random closures,
-// linearised away from any optimum: the floor is a lower bound of the
-// innovation χ² of every closure, and equals it where the chain is all the
-// estimate knows of the closure's ends, whichever two poses they are
-// (the gauge's vertex does not have to be one of them).
-TEST(InnovationChi2Floor, BoundsTheInnovationAndIsExactOnAChain) {
+// linearised away from any optimum: InnovationChi2Floor is a lower bound of
+// the innovation χ² of every closure outside the estimate and
+// DeletionChi2Ceiling an upper bound of the drop of every one in it; both
+// are exact where the chain is all the estimate knows of the closure's ends,
+// whichever two poses they are (the gauge's vertex need not be one).
+TEST(PathBounds, BoundTheInnovationAndTheDropAndAreExactOnAChain) {
   std::mt19937 rng(11);
   std::normal_distribution<double> normal;
   constexpr int n = 40;
@@ -202,6 +219,32 @@ TEST(InnovationChi2Floor, BoundsTheInnovationAndIsExactOnAChain) {
       ++bounded;
     }
     EXPECT_GE(bounded, 5) << draw;
+    // The closures in the estimate: the ceiling bounds the drop when one leaves.
+    std::vector<int> kept;
+    for (int k = n - 1; k < m; ++k) {
+      if (in[k]) kept.push_back(k);
+    }
+    const std::vector<double> drop = DeletionChi2(j.jacobian, j.residuals, offsets, in, kept);
+    const std::vector<double> ceiling =
+        DeletionChi2Ceiling(g, column, tangent, j.jacobian, j.residuals, offsets, in, kept);
+    // Asked for no more than 0, each falls back on the ball of the path's
+    // vertices and their neighbours: tighter, still a bound.
+    const std::vector<double> ball =
+        DeletionChi2Ceiling(g, column, tangent, j.jacobian, j.residuals, offsets, in, kept,
+                            std::vector<double>(kept.size(), 0.0), n);
+    int capped = 0, tighter = 0;
+    for (size_t i = 0; i < kept.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(drop[i]));
+      if (std::isnan(ceiling[i])) continue;
+      EXPECT_GE(ceiling[i], drop[i] * (1 - 1e-9)) << draw << " " << kept[i];
+      ASSERT_TRUE(std::isfinite(ball[i])) << draw << " " << kept[i];
+      EXPECT_GE(ball[i], drop[i] * (1 - 1e-9)) << draw << " " << kept[i];
+      EXPECT_LE(ball[i], ceiling[i] * (1 + 1e-9)) << draw << " " << kept[i];
+      tighter += ball[i] < 0.9 * ceiling[i];
+      ++capped;
+    }
+    EXPECT_GE(capped, 5) << draw;
+    EXPECT_GE(tighter, 1) << draw;
 
     // The chain alone: exact, ends anywhere.
     std::vector<char> chain(m, 0);
@@ -214,6 +257,15 @@ TEST(InnovationChi2Floor, BoundsTheInnovationAndIsExactOnAChain) {
     for (size_t i = 0; i < all.size(); ++i) {
       const io::Edge& e = g.edges[all[i]];
       EXPECT_NEAR(path[i], alone[i], 1e-8 * alone[i]) << draw << " " << e.from << " " << e.to;
+      // The chain and this closure: the ceiling of its drop is exact too.
+      std::vector<char> with = chain;
+      with[all[i]] = 1;
+      const double exact_drop =
+          DeletionChi2(j.jacobian, j.residuals, offsets, with, {all[i]}).front();
+      const double ceiling_drop =
+          DeletionChi2Ceiling(g, column, tangent, j.jacobian, j.residuals, offsets, with, {all[i]})
+              .front();
+      EXPECT_NEAR(ceiling_drop, exact_drop, 1e-8 * exact_drop) << draw << " " << e.from;
     }
   }
 }

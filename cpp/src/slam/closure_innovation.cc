@@ -28,23 +28,26 @@
 
 namespace boxplus::slam {
 
-std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
-                                   const Eigen::VectorXd& residuals,
-                                   const std::vector<int>& offsets,
-                                   const std::vector<char>& in_estimate,
-                                   const std::vector<int>& tested) {
+namespace {
+
+// InnovationChi2, or (deletion) DeletionChi2: S = I ∓ A H⁻¹ Aᵀ.
+std::vector<double> BlockChi2(const Eigen::SparseMatrix<double>& jacobian,
+                              const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+                              const std::vector<char>& in_estimate, const std::vector<int>& tested,
+                              bool deletion) {
   using Sparse = Eigen::SparseMatrix<double>;
   std::vector<double> out(tested.size(), std::numeric_limits<double>::quiet_NaN());
+  const char* what = deletion ? "deletion chi2" : "innovation chi2";
   const int n = static_cast<int>(jacobian.cols());
   const int m = static_cast<int>(in_estimate.size());
   BOXPLUS_CHECK(offsets.size() == in_estimate.size() + 1 && offsets.back() == jacobian.rows() &&
                     residuals.size() == jacobian.rows(),
-                "innovation chi2: ", offsets.size(), " block offsets for ", in_estimate.size(),
-                " blocks, ", jacobian.rows(), " Jacobian rows and ", residuals.size(),
-                " residuals");
+                what, ": ", offsets.size(), " block offsets for ", in_estimate.size(), " blocks, ",
+                jacobian.rows(), " Jacobian rows and ", residuals.size(), " residuals");
   for (int k : tested) {
-    BOXPLUS_CHECK(k >= 0 && k < m && !in_estimate[k], "innovation chi2: block ", k,
-                  " is not a block outside the estimate");
+    BOXPLUS_CHECK(
+        k >= 0 && k < m && (in_estimate[k] != 0) == deletion, what, ": block ", k,
+        deletion ? " is not a block in the estimate" : " is not a block outside the estimate");
   }
   if (tested.empty() || n == 0) return out;
   const std::vector<int>& row = offsets;
@@ -98,7 +101,8 @@ std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
         if (it.row() > c) u.row(it.row()).head(d) -= it.value() * u.row(c).head(d);
       }
       if (!(D[c] > 0)) finite = false;
-      S.noalias() += u.row(c).head(d).transpose() * u.row(c).head(d) / D[c];
+      S.noalias() +=
+          (deletion ? -1.0 : 1.0) / D[c] * u.row(c).head(d).transpose() * u.row(c).head(d);
     }
     for (int c : reach) {
       u.row(c).setZero();
@@ -106,8 +110,11 @@ std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
     }
     if (!finite) continue;
     const Eigen::VectorXd r = residuals.segment(row[k], d);
+    // S ≻ 0 in exact arithmetic (the closure's leverage is below 1 while
+    // other edges join its ends); a deletion's S that rounding left
+    // indefinite says nothing.
     const Eigen::LDLT<Eigen::MatrixXd> s(S);
-    if (s.info() == Eigen::Success) {
+    if (s.info() == Eigen::Success && s.isPositive() && (s.vectorD().array() > 0).all()) {
       const double chi2 = r.dot(s.solve(r));
       if (std::isfinite(chi2)) out[i] = chi2;
     }
@@ -115,111 +122,278 @@ std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
   return out;
 }
 
-// InnovationChi2Floor. The path is a chain: its far end's covariance, the
-// start held (the closure's error does not change under a motion of the
-// whole graph, so which vertex holds the gauge does not matter), is the
-// filter's recursion P_t = B_t⁻¹ (C_t P_{t-1} C_tᵀ + I) B_t⁻ᵀ, B_t and C_t
-// the whitened Jacobians of edge t at its far and near vertex: O(path · d³)
-// a closure, where InnovationChi2's reach along the elimination tree costs
-// up to the factor's size (14 ms a closure on a 3D sphere with half its
-// closures wrong, kept in the file's units).
+}  // namespace
+
+std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
+                                   const Eigen::VectorXd& residuals,
+                                   const std::vector<int>& offsets,
+                                   const std::vector<char>& in_estimate,
+                                   const std::vector<int>& tested) {
+  return BlockChi2(jacobian, residuals, offsets, in_estimate, tested, false);
+}
+
+std::vector<double> DeletionChi2(const Eigen::SparseMatrix<double>& jacobian,
+                                 const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+                                 const std::vector<char>& in_estimate,
+                                 const std::vector<int>& tested) {
+  return BlockChi2(jacobian, residuals, offsets, in_estimate, tested, true);
+}
+
+namespace {
+
+// The path bounds (InnovationChi2Floor, DeletionChi2Ceiling). The path is a
+// chain: its far end's covariance, the start held (a closure's error does
+// not change under a motion of the whole graph, so which vertex holds the
+// gauge does not matter), is the filter's recursion
+// P_t = B_t⁻¹ (C_t P_{t-1} C_tᵀ + I) B_t⁻ᵀ, B_t and C_t the whitened
+// Jacobians of edge t at its far and near vertex: O(path · d³) a closure,
+// where the reach along the elimination tree in BlockChi2 costs up to the
+// factor's size (14 ms a closure on a 3D sphere with half its closures
+// wrong, kept in the file's units).
+class PathCovariance {
+ public:
+  PathCovariance(const io::Graph& graph, const std::vector<int>& column_of_vertex,
+                 const std::vector<int>& tangent_of_vertex,
+                 const Eigen::SparseMatrix<double>& jacobian, const std::vector<int>& offsets,
+                 const std::vector<char>& in_estimate)
+      : graph_(graph),
+        column_(column_of_vertex),
+        tangent_(tangent_of_vertex),
+        offsets_(offsets),
+        at_(jacobian.transpose()),
+        next_(graph.vertices.size()),
+        via_(graph.vertices.size(), -1),
+        local_(graph.vertices.size(), -1) {
+    for (size_t k = 0; k < graph.edges.size(); ++k) {
+      const io::Edge& e = graph.edges[k];
+      if (!in_estimate[k] || !PoseToPose(e)) continue;
+      const int a = graph.EndIndex(e, 0), b = graph.EndIndex(e, 1);
+      if (a == b) continue;
+      next_[a].emplace_back(b, static_cast<int>(k));
+      next_[b].emplace_back(a, static_cast<int>(k));
+    }
+  }
+
+  static bool PoseToPose(const io::Edge& e) {
+    return !io::IsUnary(e.kind) && io::EndIsPose(e.kind, 0) && io::EndIsPose(e.kind, 1);
+  }
+
+  // A P Aᵀ for edge k (pose to pose): A its whitened Jacobian at one end,
+  // P that end's covariance along the path of fewest other edges in the
+  // estimate from the other end, held. False where there is no such path
+  // or a vertex on it besides the held one is fixed.
+  bool OfClosure(int k, Eigen::MatrixXd* apa) {
+    const io::Edge& closure = graph_.edges[k];
+    if (!PoseToPose(closure)) return false;
+    int anchor = graph_.EndIndex(closure, 0), far = graph_.EndIndex(closure, 1);
+    if (column_[far] < 0) std::swap(anchor, far);
+    if (anchor == far || column_[far] < 0) return false;
+    // Breadth first from the anchor: the path with fewest edges.
+    for (int v : seen_) via_[v] = -1;
+    seen_.assign(1, anchor);
+    via_[anchor] = -2;
+    for (size_t q = 0; q < seen_.size() && via_[far] == -1; ++q) {
+      for (const auto& [w, e] : next_[seen_[q]]) {
+        if (via_[w] != -1 || e == k) continue;
+        via_[w] = e;
+        seen_.push_back(w);
+      }
+    }
+    if (via_[far] == -1) return false;
+    path_.clear();  // (vertex, edge reaching it), far end first
+    for (int v = far; v != anchor;) {
+      if (column_[v] < 0) return false;
+      const io::Edge& e = graph_.edges[via_[v]];
+      path_.emplace_back(v, via_[v]);
+      const int a = graph_.EndIndex(e, 0);
+      v = a == v ? graph_.EndIndex(e, 1) : a;
+    }
+    Small P;  // the covariance of the vertex reached, anchor held
+    int previous = anchor;
+    for (auto step = path_.rbegin(); step != path_.rend(); ++step) {
+      const auto [v, e] = *step;
+      Small B, C;
+      if (!Block(e, v, &B) || B.rows() != B.cols()) return false;
+      Small Q = Small::Identity(B.rows(), B.rows());
+      if (column_[previous] >= 0 && P.size() > 0) {
+        if (!Block(e, previous, &C)) return false;
+        Q.noalias() += C * P * C.transpose();
+      }
+      const Eigen::FullPivLU<Small> lu(B);
+      if (!lu.isInvertible()) return false;
+      const Small Binv = lu.inverse();
+      P.noalias() = Binv * Q * Binv.transpose();
+      previous = v;
+    }
+    Small A;
+    if (!P.allFinite() || !Block(k, far, &A)) return false;
+    *apa = A * P * A.transpose();
+    return apa->allFinite();
+  }
+
+  // A P Aᵀ as OfClosure, P from every edge in the estimate but k among the
+  // vertices within one edge more of the anchor than the path's length (a
+  // ball that holds the paths near the shortest, not just one), solved
+  // sparsely. Held: the ball's fixed vertices, or the anchor if it has none
+  // (holding both would hold more than the whole graph does). False where
+  // the ball has more than max_vertices vertices or does not factorise.
+  bool OfClosureInBall(int k, size_t max_vertices, Eigen::MatrixXd* apa) {
+    using Sparse = Eigen::SparseMatrix<double>;
+    const io::Edge& closure = graph_.edges[k];
+    if (!PoseToPose(closure)) return false;
+    const int ends[2] = {graph_.EndIndex(closure, 0), graph_.EndIndex(closure, 1)};
+    const int anchor = ends[0], far = ends[1];
+    if (anchor == far) return false;
+    // Breadth first, layer by layer, to one layer past the far end.
+    for (int v : seen_) via_[v] = -1;
+    seen_.assign(1, anchor);
+    via_[anchor] = -2;
+    size_t layer_begin = 0;
+    int layers_left = -1;  // set when the far end is reached
+    while (layer_begin < seen_.size() && layers_left != 0) {
+      const size_t layer_end = seen_.size();
+      for (size_t q = layer_begin; q < layer_end; ++q) {
+        for (const auto& [w, e] : next_[seen_[q]]) {
+          if (via_[w] != -1 || e == k) continue;
+          via_[w] = e;
+          seen_.push_back(w);
+        }
+      }
+      if (seen_.size() > max_vertices) return false;
+      layer_begin = layer_end;
+      if (layers_left > 0) --layers_left;
+      if (layers_left < 0 && via_[far] != -1) layers_left = 1;
+    }
+    if (via_[far] == -1) return false;
+    bool any_fixed = false;
+    for (int v : seen_) any_fixed = any_fixed || column_[v] < 0;
+    // Local columns of the ball's free vertices.
+    int n = 0;
+    for (int v : seen_) {
+      const bool held = column_[v] < 0 || (!any_fixed && v == anchor);
+      local_[v] = held ? -1 : n;
+      if (!held) n += tangent_[v];
+    }
+    std::vector<Eigen::Triplet<double>> entries;
+    bool blocks = true;  // every Jacobian block at most 6 × 6
+    for (int v : seen_) {
+      for (const auto& [w, e] : next_[v]) {
+        if (e == k || via_[w] == -1 || w < v) continue;  // each edge once, from its lower end
+        const int at[2] = {v, w};
+        Small J[2];
+        for (int s = 0; s < 2; ++s) {
+          if (local_[at[s]] >= 0 && !Block(e, at[s], &J[s])) blocks = false;
+        }
+        if (!blocks) continue;
+        for (int s = 0; s < 2; ++s) {
+          for (int t = 0; t < 2; ++t) {
+            if (local_[at[s]] < 0 || local_[at[t]] < 0) continue;
+            const Eigen::MatrixXd h = J[s].transpose() * J[t];
+            for (int a = 0; a < h.rows(); ++a) {
+              for (int b = 0; b < h.cols(); ++b) {
+                entries.emplace_back(local_[at[s]] + a, local_[at[t]] + b, h(a, b));
+              }
+            }
+          }
+        }
+      }
+    }
+    const int d = offsets_[k + 1] - offsets_[k];
+    Eigen::MatrixXd At = Eigen::MatrixXd::Zero(n, d);
+    for (int end : ends) {
+      Small A;
+      if (local_[end] < 0) continue;
+      if (!Block(k, end, &A)) {
+        blocks = false;
+        continue;
+      }
+      At.middleRows(local_[end], tangent_[end]) = A.transpose();
+    }
+    for (int v : seen_) local_[v] = -1;
+    if (!blocks) return false;
+    if (n == 0) return false;
+    Sparse H(n, n);
+    H.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<Sparse> ldlt(H);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0).all()) return false;
+    const Eigen::MatrixXd X = ldlt.solve(At);
+    *apa = At.transpose() * X;
+    return apa->allFinite();
+  }
+
+ private:
+  // At most 6 × 6 (pose-to-pose edges' blocks): kept off the heap.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  // Edge k's whitened Jacobian with respect to vertex v (tangent columns);
+  // false if it is larger than 6 × 6.
+  bool Block(int k, int v, Small* J) const {
+    const int c0 = column_[v], t = tangent_[v], d = offsets_[k + 1] - offsets_[k];
+    if (d > 6 || t > 6) return false;
+    J->setZero(d, t);
+    for (int r = offsets_[k]; r < offsets_[k + 1]; ++r) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(at_, r); it; ++it) {
+        if (it.row() >= c0 && it.row() < c0 + t) (*J)(r - offsets_[k], it.row() - c0) = it.value();
+      }
+    }
+    return true;
+  }
+
+  const io::Graph& graph_;
+  const std::vector<int>& column_;
+  const std::vector<int>& tangent_;
+  const std::vector<int>& offsets_;
+  const Eigen::SparseMatrix<double> at_;                // column r: residual row r's gradient
+  std::vector<std::vector<std::pair<int, int>>> next_;  // (neighbour, edge) in the estimate
+  std::vector<int> via_;                                // the edge a vertex was reached by
+  std::vector<int> seen_;
+  std::vector<std::pair<int, int>> path_;
+  std::vector<int> local_;  // a ball vertex's first local column; -1 if held or outside
+};
+
+}  // namespace
+
 std::vector<double> InnovationChi2Floor(
     const io::Graph& graph, const std::vector<int>& column_of_vertex,
     const std::vector<int>& tangent_of_vertex, const Eigen::SparseMatrix<double>& jacobian,
     const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
     const std::vector<char>& in_estimate, const std::vector<int>& tested) {
-  using Sparse = Eigen::SparseMatrix<double>;
   std::vector<double> out(tested.size(), std::numeric_limits<double>::quiet_NaN());
-  const int nv = static_cast<int>(graph.vertices.size());
-  auto pose_to_pose = [&](const io::Edge& e) {
-    return !io::IsUnary(e.kind) && io::EndIsPose(e.kind, 0) && io::EndIsPose(e.kind, 1);
-  };
-  // The inliers' pose-to-pose adjacency, as (neighbour, edge).
-  std::vector<std::vector<std::pair<int, int>>> next(nv);
-  for (size_t k = 0; k < graph.edges.size(); ++k) {
-    const io::Edge& e = graph.edges[k];
-    if (!in_estimate[k] || !pose_to_pose(e)) continue;
-    const int a = graph.EndIndex(e, 0), b = graph.EndIndex(e, 1);
-    if (a == b) continue;
-    next[a].emplace_back(b, static_cast<int>(k));
-    next[b].emplace_back(a, static_cast<int>(k));
-  }
-  const Sparse At = jacobian.transpose();  // column r: residual row r's gradient
-  // Edge k's whitened Jacobian with respect to vertex v (tangent columns).
-  auto block = [&](int k, int v) {
-    const int c0 = column_of_vertex[v];
-    const int t = tangent_of_vertex[v];
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(offsets[k + 1] - offsets[k], t);
-    for (int r = offsets[k]; r < offsets[k + 1]; ++r) {
-      for (Sparse::InnerIterator it(At, r); it; ++it) {
-        if (it.row() >= c0 && it.row() < c0 + t) J(r - offsets[k], it.row() - c0) = it.value();
-      }
-    }
-    return J;
-  };
-
-  std::vector<int> via(nv, -1);  // the edge a vertex was reached by
-  std::vector<int> seen;
-  std::vector<int> queue;
+  PathCovariance path(graph, column_of_vertex, tangent_of_vertex, jacobian, offsets, in_estimate);
+  Eigen::MatrixXd apa;
   for (size_t i = 0; i < tested.size(); ++i) {
     const int k = tested[i];
-    const io::Edge& closure = graph.edges[k];
-    if (!pose_to_pose(closure)) continue;
-    int anchor = graph.EndIndex(closure, 0), far = graph.EndIndex(closure, 1);
-    if (column_of_vertex[far] < 0) std::swap(anchor, far);
-    if (anchor == far || column_of_vertex[far] < 0) continue;
-    // Breadth first from the anchor: the path with fewest edges.
-    for (int v : seen) via[v] = -1;
-    seen.assign(1, anchor);
-    queue.assign(1, anchor);
-    via[anchor] = -2;
-    for (size_t q = 0; q < queue.size() && via[far] == -1; ++q) {
-      for (const auto& [w, e] : next[queue[q]]) {
-        if (via[w] != -1) continue;
-        via[w] = e;
-        seen.push_back(w);
-        queue.push_back(w);
-      }
-    }
-    if (via[far] == -1) continue;
-    std::vector<std::pair<int, int>> path;  // (vertex, edge reaching it), far end first
-    bool free = true;
-    for (int v = far; v != anchor;) {
-      const io::Edge& e = graph.edges[via[v]];
-      path.emplace_back(v, via[v]);
-      free = free && column_of_vertex[v] >= 0;
-      const int a = graph.EndIndex(e, 0);
-      v = a == v ? graph.EndIndex(e, 1) : a;
-    }
-    if (!free) continue;
-    std::reverse(path.begin(), path.end());
-    Eigen::MatrixXd P;  // the covariance of the vertex reached, anchor held
-    int previous = anchor;
-    bool ok = true;
-    for (const auto& [v, e] : path) {
-      const Eigen::MatrixXd B = block(e, v);
-      Eigen::MatrixXd Q = Eigen::MatrixXd::Identity(B.rows(), B.rows());
-      if (column_of_vertex[previous] >= 0 && P.size() > 0) {
-        const Eigen::MatrixXd C = block(e, previous);
-        Q.noalias() += C * P * C.transpose();
-      }
-      const Eigen::FullPivLU<Eigen::MatrixXd> lu(B);
-      if (B.rows() != B.cols() || !lu.isInvertible()) {
-        ok = false;
-        break;
-      }
-      const Eigen::MatrixXd Binv = lu.inverse();
-      P = Binv * Q * Binv.transpose();
-      previous = v;
-    }
-    if (!ok || !P.allFinite()) continue;
-    const Eigen::MatrixXd A = block(k, far);
-    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(A.rows(), A.rows()) + A * P * A.transpose();
-    const Eigen::VectorXd r = residuals.segment(offsets[k], A.rows());
+    if (!path.OfClosure(k, &apa)) continue;
+    const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(apa.rows(), apa.rows()) + apa;
+    const Eigen::VectorXd r = residuals.segment(offsets[k], apa.rows());
     const Eigen::LDLT<Eigen::MatrixXd> s(S);
     if (s.info() != Eigen::Success) continue;
     const double chi2 = r.dot(s.solve(r));
     if (std::isfinite(chi2)) out[i] = chi2;
+  }
+  return out;
+}
+
+std::vector<double> DeletionChi2Ceiling(
+    const io::Graph& graph, const std::vector<int>& column_of_vertex,
+    const std::vector<int>& tangent_of_vertex, const Eigen::SparseMatrix<double>& jacobian,
+    const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+    const std::vector<char>& in_estimate, const std::vector<int>& tested,
+    const std::vector<double>& enough, size_t ball_vertices) {
+  std::vector<double> out(tested.size(), std::numeric_limits<double>::quiet_NaN());
+  PathCovariance path(graph, column_of_vertex, tangent_of_vertex, jacobian, offsets, in_estimate);
+  Eigen::MatrixXd apa;
+  auto ceiling = [&](int k) {
+    const Eigen::VectorXd r = residuals.segment(offsets[k], apa.rows());
+    return r.squaredNorm() + r.dot(apa * r);
+  };
+  for (size_t i = 0; i < tested.size(); ++i) {
+    const int k = tested[i];
+    if (path.OfClosure(k, &apa)) out[i] = ceiling(k);
+    if (i < enough.size() && !(out[i] <= enough[i]) && ball_vertices > 0 &&
+        path.OfClosureInBall(k, ball_vertices, &apa)) {
+      out[i] = std::fmin(ceiling(k), std::isnan(out[i]) ? INFINITY : out[i]);
+    }
+    if (!std::isfinite(out[i])) out[i] = std::numeric_limits<double>::quiet_NaN();
   }
   return out;
 }
@@ -232,26 +406,14 @@ std::vector<double> PoseGraph::ClosureInnovations(const std::vector<Eigen::Vecto
   std::vector<double> out(tested.size(), std::numeric_limits<double>::quiet_NaN());
   if (tested.empty() || loss_ || m != static_cast<int>(graph_.edges.size())) return out;
   SetValues(x);
-  const SparseJacobianEvaluation j = problem_.EvaluateSparseJacobian();
-  std::vector<int> offsets(m + 1, 0);
-  for (int k = 0; k < m; ++k) offsets[k + 1] = offsets[k] + problem_.residual_size(k);
-  std::vector<int> column_of_vertex(graph_.vertices.size(), -1);
-  std::vector<int> tangent_of_vertex(graph_.vertices.size(), 0);
-  {
-    std::vector<int> column_of_variable(problem_.num_variables(), -1);
-    for (size_t q = 0; q < j.variables.size(); ++q) {
-      column_of_variable[j.variables[q]] = j.column_offsets[q];
-    }
-    for (size_t v = 0; v < var_of_vertex_.size(); ++v) {
-      column_of_vertex[v] = column_of_variable[var_of_vertex_[v]];
-      tangent_of_vertex[v] = problem_.manifold(var_of_vertex_[v]).TangentSize();
-    }
-  }
+  const Linearisation lin = Linearise();
+  const SparseJacobianEvaluation& j = lin.j;
+  const std::vector<int>& offsets = lin.offsets;
   // Closures the path's floor already puts above their bound need no
   // factorisation; the rest get the exact value.
   const std::vector<double> floor =
-      InnovationChi2Floor(graph_, column_of_vertex, tangent_of_vertex, j.jacobian, j.residuals,
-                          offsets, in_estimate, tested);
+      InnovationChi2Floor(graph_, lin.column_of_vertex, lin.tangent_of_vertex, j.jacobian,
+                          j.residuals, offsets, in_estimate, tested);
   std::vector<int> exact;
   std::vector<size_t> at;
   for (size_t i = 0; i < tested.size(); ++i) {

@@ -147,8 +147,11 @@ SolveSummary PoseGraph::Solve(const SolverOptions& caller) {
   // In auto mode a single closure far beyond its χ² bound is as implausible
   // as a large χ²/dof (pose_graph.h); the restarts (kOff) keep χ²/dof alone.
   double closure_excess = 0;
+  bool by_deletion = false;
   const int implausible_closure =
-      gnc_answers && !(per_dof > kImplausibleChi2PerDof) ? ImplausibleClosure(&closure_excess) : -1;
+      gnc_answers && !(per_dof > kImplausibleChi2PerDof)
+          ? ImplausibleClosure(2 * first.final_cost, &closure_excess, &by_deletion)
+          : -1;
   if (!forced_gnc && !(per_dof > kImplausibleChi2PerDof) && implausible_closure < 0) return first;
 
   // The later solves continue the first's iteration count and clock, so that
@@ -185,14 +188,16 @@ SolveSummary PoseGraph::Solve(const SolverOptions& caller) {
     const CountedSolve counted = [&](Problem& p, int max_iterations) {
       return solve_counted(p, nullptr, max_iterations);
     };
-    SolveSummary out = SolveGnc(forced_gnc ? mode : OutlierMode::kTls, first, counted, interrupted);
+    SolveSummary out = SolveGnc(forced_gnc ? mode : OutlierMode::kTls, first, counted, interrupted,
+                                by_deletion ? implausible_closure : -1);
     char head[320];
     if (implausible_closure >= 0) {
       const io::Edge& e = graph_.edges[implausible_closure];
       std::snprintf(head, sizeof head,
                     "chi2/dof %.3g, but loop closure %d-%d (line %d) is %.3g times its chi2 "
-                    "bound, wrong loop closures?: chi2 %.10g; ",
-                    per_dof, e.from, e.to, e.line, closure_excess, 2 * first.final_cost);
+                    "bound%s, wrong loop closures?: chi2 %.10g; ",
+                    per_dof, e.from, e.to, e.line, closure_excess,
+                    by_deletion ? " (the drop of chi2 without it)" : "", 2 * first.final_cost);
     } else {
       std::snprintf(head, sizeof head, "chi2/dof %.3g %s: chi2 %.10g; ", per_dof,
                     forced_gnc  ? "at the start"

@@ -151,6 +151,18 @@ std::vector<double> InnovationChi2(const Eigen::SparseMatrix<double>& jacobian,
                                    const std::vector<char>& in_estimate,
                                    const std::vector<int>& tested);
 
+// The drop of the minimum of Σ ‖rⱼ‖² if block k (in the estimate) left it,
+// from the residuals at the minimum with it:
+//   rₖᵀ (I − Aₖ H⁻¹ Aₖᵀ)⁻¹ rₖ,  H = Σ_{in estimate} AⱼᵀAⱼ,
+// which is block k's innovation χ² against the others (Woodbury: the same
+// as rₖᵀ (I + Aₖ H₋ₖ⁻¹ Aₖᵀ) rₖ); a regression's deleted residual (Cook and
+// Weisberg, "Residuals and Influence in Regression", 1982, §2.2). NaN for
+// every block when H does not factorise.
+std::vector<double> DeletionChi2(const Eigen::SparseMatrix<double>& jacobian,
+                                 const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+                                 const std::vector<char>& in_estimate,
+                                 const std::vector<int>& tested);
+
 // A lower bound on InnovationChi2 of each tested block that is a
 // pose-to-pose edge of `graph` (block k = graph.edges[k]), cheap enough to
 // screen with: the same expression with H replaced by the information of
@@ -166,6 +178,21 @@ std::vector<double> InnovationChi2Floor(
     const std::vector<int>& tangent_of_vertex, const Eigen::SparseMatrix<double>& jacobian,
     const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
     const std::vector<char>& in_estimate, const std::vector<int>& tested);
+
+// An upper bound on DeletionChi2 of each tested block (pose-to-pose edges
+// in the estimate), the same way: rₖᵀ (I + Aₖ P Aₖᵀ) rₖ with P the
+// covariance along the fewest-edge path of other pose-to-pose edges in the
+// estimate, at least H₋ₖ⁻¹'s. Where that is above enough[i] (when given),
+// P from all those edges among the vertices within one edge more of the
+// closure's first end than the path's length, when there are at most
+// ball_vertices of them (a sparse factorisation of that ball). NaN where
+// neither exists.
+std::vector<double> DeletionChi2Ceiling(
+    const io::Graph& graph, const std::vector<int>& column_of_vertex,
+    const std::vector<int>& tangent_of_vertex, const Eigen::SparseMatrix<double>& jacobian,
+    const Eigen::VectorXd& residuals, const std::vector<int>& offsets,
+    const std::vector<char>& in_estimate, const std::vector<int>& tested,
+    const std::vector<double>& enough = {}, size_t ball_vertices = 0);
 
 // TLS / GM weight of a residual s = eᵀΩe / c̄² at control parameter μ.
 double TlsWeight(double s, double mu);

@@ -176,12 +176,27 @@ class PoseGraph {
   // Runs a solve of `problem` as a part of this Solve's one run (iterations
   // and time counted on); `max_iterations` > 0 caps it.
   using CountedSolve = std::function<SolveSummary(Problem& problem, int max_iterations)>;
+  // `hidden`: the closure (edge index; -1: none) whose deletion χ² alone
+  // found the least-squares solution (the current values) implausible
+  // (ImplausibleClosure).
   SolveSummary SolveGnc(OutlierMode mode, const SolveSummary& first, const CountedSolve& solve,
-                        const bool& interrupted);
+                        const bool& interrupted, int hidden = -1);
   // The loop closure (edge index; -1: none) whose eᵀΩe at the current values
   // is furthest above its bound (kImplausibleClosureMargin below), when it
-  // is above; *excess = the largest eᵀΩe over the bound.
-  int ImplausibleClosure(double* excess) const;
+  // is above; *excess = the largest eᵀΩe over the bound. When none is, the
+  // closure whose deletion χ² (the drop of χ² if it left, DeletionChi2) is
+  // furthest above kImplausibleDeletionMargin times the same bound, when it
+  // is, with *deleted set (gnc.cc). chi2_total: Σ eᵀΩe at the current values.
+  int ImplausibleClosure(double chi2_total, double* excess, bool* deleted);
+  // The whitened Jacobian at the current values, and where each edge's rows
+  // and each vertex's columns are in it.
+  struct Linearisation {
+    SparseJacobianEvaluation j;
+    std::vector<int> offsets;            // edge k: rows offsets[k] … offsets[k + 1] − 1
+    std::vector<int> column_of_vertex;   // the first of its columns; -1 where fixed
+    std::vector<int> tangent_of_vertex;  // how many
+  };
+  Linearisation Linearise();
   // The information's scale as the inliers show it at x (judged edges with
   // inlier 0 left out), two ways (gnc.cc): their χ²/dof, each χ² capped, robust
   // to a few wrong closures kept; and their median χ² (per χ²(d) median, per
@@ -262,6 +277,14 @@ inline constexpr double kImplausibleChi2PerDof = 10.0;
 // standard files 0.02–0.5.
 inline constexpr double kImplausibleClosureFalseAlarm = 1e-3;
 inline constexpr double kImplausibleClosureMargin = 3.0;
+
+// eᵀΩe at the least-squares solution hides a wrong closure where the path
+// between its ends is loose: the closure drags it and shares its error out
+// (MIT with one wrong closure added: χ²/dof 2.5, every closure below its
+// bound, the trajectory 13 m off). The drop of χ² when the closure leaves
+// (DeletionChi2) charges it with all of it: under right information it is
+// χ²(d)-distributed, so the same Bonferroni bound holds, times this margin.
+inline constexpr double kImplausibleDeletionMargin = 3.0;
 
 // GNC's thresholds are χ² quantiles in the file's units. When the inliers'
 // χ²/dof after a graduation (PoseGraph::InlierScale) is below
